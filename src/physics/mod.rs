@@ -1,0 +1,21 @@
+//! The engine. Nothing here knows about windows, GPUs or user interfaces.
+//!
+//! Reading order of a step: `forces` → `integrate` (see `World::step`).
+
+pub mod body;
+pub mod compound;
+pub mod forces;
+pub mod hull;
+pub mod integrate;
+pub mod mass;
+pub mod shape;
+pub mod world;
+
+pub use body::{BodyDesc, BodyError, BodyId, Material, Motion, RigidBody};
+pub use compound::{Compound, CompoundPart};
+pub use forces::EnvironmentForce;
+pub use hull::{ConvexHull, HullError, HullFace};
+pub use integrate::Integrator;
+pub use mass::MassProperties;
+pub use shape::{Pose, Shape, ShapeError};
+pub use world::{World, WorldSettings, WorldTotals};

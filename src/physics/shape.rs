@@ -1,0 +1,206 @@
+//! Collision shapes, in their own local frame.
+//!
+//! Every convex shape exposes a support function: the point of the shape farthest along a
+//! direction. GJK, EPA, bounding boxes and time of impact only ever talk to shapes through it.
+//! Capsules and cylinders are aligned with the local y axis.
+
+use std::sync::Arc;
+
+use glam::{DQuat, DVec3};
+use thiserror::Error;
+
+use crate::physics::compound::Compound;
+use crate::physics::hull::ConvexHull;
+
+/// Smallest and largest extent (m) a shape may have: beyond these, f64 contact tolerances
+/// (1e-9 m) and a single-precision renderer stop being meaningful.
+pub const MIN_EXTENT: f64 = 1e-4;
+pub const MAX_EXTENT: f64 = 1e4;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    Sphere { radius: f64 },
+    Cuboid { half_extents: DVec3 },
+    /// A segment from (0, -half_height, 0) to (0, half_height, 0), swept by a sphere of `radius`.
+    Capsule { half_height: f64, radius: f64 },
+    /// A solid cylinder around the local y axis.
+    Cylinder { half_height: f64, radius: f64 },
+    ConvexHull(Arc<ConvexHull>),
+    /// A concave body made of convex parts.
+    Compound(Arc<Compound>),
+}
+
+#[derive(Debug, Error, PartialEq)]
+pub enum ShapeError {
+    #[error("{field} must be finite, got {value}")]
+    NotFinite { field: &'static str, value: f64 },
+    #[error("{field} must lie in [{MIN_EXTENT}, {MAX_EXTENT}] m, got {value}")]
+    OutOfRange { field: &'static str, value: f64 },
+    #[error("convex hull: {0}")]
+    Hull(#[from] crate::physics::hull::HullError),
+    #[error("compound: {0}")]
+    Compound(String),
+}
+
+impl Shape {
+    pub fn sphere(radius: f64) -> Self {
+        Shape::Sphere { radius }
+    }
+
+    pub fn cuboid(half_extents: DVec3) -> Self {
+        Shape::Cuboid { half_extents }
+    }
+
+    pub fn capsule(half_height: f64, radius: f64) -> Self {
+        Shape::Capsule {
+            half_height,
+            radius,
+        }
+    }
+
+    pub fn cylinder(half_height: f64, radius: f64) -> Self {
+        Shape::Cylinder {
+            half_height,
+            radius,
+        }
+    }
+
+    /// The convex hull of a point cloud (quickhull).
+    pub fn hull(points: &[DVec3]) -> Result<Self, ShapeError> {
+        Ok(Shape::ConvexHull(Arc::new(ConvexHull::from_points(points)?)))
+    }
+
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Shape::Sphere { .. } => "sphere",
+            Shape::Cuboid { .. } => "cuboid",
+            Shape::Capsule { .. } => "capsule",
+            Shape::Cylinder { .. } => "cylinder",
+            Shape::ConvexHull(_) => "hull",
+            Shape::Compound(_) => "compound",
+        }
+    }
+
+    pub fn is_convex(&self) -> bool {
+        !matches!(self, Shape::Compound(_))
+    }
+
+    /// Checks that every dimension is finite and within [MIN_EXTENT, MAX_EXTENT].
+    pub fn validate(&self) -> Result<(), ShapeError> {
+        match self {
+            Shape::Sphere { radius } => check_extent("radius", *radius),
+            Shape::Cuboid { half_extents } => {
+                check_extent("half_extents.x", half_extents.x)?;
+                check_extent("half_extents.y", half_extents.y)?;
+                check_extent("half_extents.z", half_extents.z)
+            }
+            Shape::Capsule {
+                half_height,
+                radius,
+            }
+            | Shape::Cylinder {
+                half_height,
+                radius,
+            } => {
+                check_extent("half_height", *half_height)?;
+                check_extent("radius", *radius)
+            }
+            Shape::ConvexHull(hull) => hull.validate().map_err(ShapeError::from),
+            Shape::Compound(compound) => compound.validate(),
+        }
+    }
+
+    /// The point of the shape farthest along `direction` (local frame). For a compound this is
+    /// the support of the convex hull of its parts.
+    pub fn support(&self, direction: DVec3) -> DVec3 {
+        match self {
+            Shape::Sphere { radius } => direction.normalize_or(DVec3::Y) * *radius,
+            Shape::Cuboid { half_extents } => sign_or_positive(direction) * *half_extents,
+            Shape::Capsule {
+                half_height,
+                radius,
+            } => {
+                let tip = DVec3::new(0.0, half_height.copysign(direction.y), 0.0);
+                tip + direction.normalize_or(DVec3::Y) * *radius
+            }
+            Shape::Cylinder {
+                half_height,
+                radius,
+            } => {
+                let radial = DVec3::new(direction.x, 0.0, direction.z).normalize_or_zero();
+                radial * *radius + DVec3::new(0.0, half_height.copysign(direction.y), 0.0)
+            }
+            Shape::ConvexHull(hull) => hull.support(direction),
+            Shape::Compound(compound) => compound.support(direction),
+        }
+    }
+
+    /// Local axis-aligned bounds, (min, max).
+    pub fn local_bounds(&self) -> (DVec3, DVec3) {
+        let max = DVec3::new(
+            self.support(DVec3::X).x,
+            self.support(DVec3::Y).y,
+            self.support(DVec3::Z).z,
+        );
+        let min = DVec3::new(
+            self.support(-DVec3::X).x,
+            self.support(-DVec3::Y).y,
+            self.support(-DVec3::Z).z,
+        );
+        (min, max)
+    }
+
+    /// Radius of the smallest origin-centred sphere that holds the shape.
+    pub fn bounding_radius(&self) -> f64 {
+        let (min, max) = self.local_bounds();
+        min.abs().max(max.abs()).length()
+    }
+}
+
+/// A rigid transform: rotation then translation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    pub translation: DVec3,
+    pub rotation: DQuat,
+}
+
+impl Pose {
+    pub const IDENTITY: Pose = Pose {
+        translation: DVec3::ZERO,
+        rotation: DQuat::IDENTITY,
+    };
+
+    pub fn new(translation: DVec3, rotation: DQuat) -> Self {
+        Pose {
+            translation,
+            rotation,
+        }
+    }
+
+    pub fn transform_point(&self, p: DVec3) -> DVec3 {
+        self.rotation * p + self.translation
+    }
+
+    pub fn inverse_transform_point(&self, p: DVec3) -> DVec3 {
+        self.rotation.inverse() * (p - self.translation)
+    }
+}
+
+fn check_extent(field: &'static str, value: f64) -> Result<(), ShapeError> {
+    if !value.is_finite() {
+        return Err(ShapeError::NotFinite { field, value });
+    }
+    if !(MIN_EXTENT..=MAX_EXTENT).contains(&value) {
+        return Err(ShapeError::OutOfRange { field, value });
+    }
+    Ok(())
+}
+
+/// Component-wise sign with zero mapped to +1, so a support point is always a vertex.
+fn sign_or_positive(v: DVec3) -> DVec3 {
+    DVec3::new(
+        1f64.copysign(v.x),
+        1f64.copysign(v.y),
+        1f64.copysign(v.z),
+    )
+}
