@@ -373,3 +373,34 @@ fn forces_edited_mid_run_take_effect_on_the_next_step() {
     world.step(0.01);
     assert_eq!(world.body(ball).velocity(), v);
 }
+
+#[test]
+fn a_body_that_goes_non_finite_is_isolated_the_same_step() {
+    let mut world = world_with(Integrator::Midpoint, gravity());
+    let healthy = add(
+        &mut world,
+        BodyDesc::dynamic(Shape::sphere(0.1)).named("healthy"),
+    );
+    let broken = add(
+        &mut world,
+        BodyDesc::dynamic(Shape::sphere(0.1)).named("broken"),
+    );
+    run(&mut world, 0.01, 5);
+    world
+        .body_mut(broken)
+        .apply_force(DVec3::new(f64::NAN, 0.0, 0.0));
+    world.step(0.01);
+    assert_eq!(world.faults().len(), 1);
+    let fault = &world.faults()[0];
+    assert_eq!(
+        (fault.body, fault.name.as_str(), fault.step),
+        (broken, "broken", 5)
+    );
+    assert_eq!(world.body(broken).motion, rigid::physics::Motion::Isolated);
+    // The others go on exactly as before, and the totals stay finite.
+    run(&mut world, 0.01, 94);
+    assert!((world.body(healthy).velocity().y + G * 1.0).abs() < 1e-12);
+    let totals = world.totals();
+    assert!(totals.kinetic_energy.is_finite() && totals.linear_momentum.is_finite());
+    assert_eq!(world.faults().len(), 1, "reported once");
+}

@@ -48,6 +48,9 @@ pub enum Motion {
     Dynamic,
     /// Never moves: inverse mass and inverse inertia are zero, as in the report.
     Static,
+    /// Taken out of the simulation after its state went non-finite; kept for inspection.
+    /// Feels no force, moves no more and (once contacts exist) touches nothing.
+    Isolated,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -279,7 +282,7 @@ impl RigidBody {
         let position = desc.position + orientation * props.center;
         let (inv_mass, inv_inertia_local) = match desc.motion {
             Motion::Dynamic => (1.0 / props.mass, props.inertia.inverse()),
-            Motion::Static => (0.0, DMat3::ZERO),
+            Motion::Static | Motion::Isolated => (0.0, DMat3::ZERO),
         };
         let mut body = RigidBody {
             name: desc.name.clone(),

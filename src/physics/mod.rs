@@ -1,6 +1,6 @@
 //! The engine. Nothing here knows about windows, GPUs or user interfaces.
 //!
-//! Reading order of a step: `forces` → `integrate` (see `World::step`).
+//! Reading order of a step: `forces` → `integrate` → diagnostics (see `World::step`).
 
 pub mod body;
 pub mod compound;
@@ -18,4 +18,4 @@ pub use hull::{ConvexHull, HullError, HullFace};
 pub use integrate::Integrator;
 pub use mass::MassProperties;
 pub use shape::{Pose, Shape, ShapeError};
-pub use world::{World, WorldSettings, WorldTotals};
+pub use world::{Fault, World, WorldSettings, WorldTotals};

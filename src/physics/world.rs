@@ -1,5 +1,7 @@
 //! The world: bodies, environmental forces and settings, advanced by `step(dt)`.
 //!
+//! A step reads as its stages: forces → integrate → diagnostics (non-finite bodies isolated).
+//!
 //! ```
 //! use glam::DVec3;
 //! use rigid::physics::{BodyDesc, EnvironmentForce, Shape, World};
@@ -16,7 +18,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::physics::body::{BodyDesc, BodyError, BodyId, RigidBody};
+use crate::physics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::integrate::{self, Integrator};
 
@@ -42,6 +44,16 @@ pub struct World {
     pub settings: WorldSettings,
     time: f64,
     steps: u64,
+    faults: Vec<Fault>,
+}
+
+/// A body whose state stopped being finite, and when. The body is isolated the same step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fault {
+    pub body: BodyId,
+    pub name: String,
+    pub step: u64,
+    pub time: f64,
 }
 
 /// Totals over all dynamic bodies, for summaries and conservation checks.
@@ -99,8 +111,14 @@ impl World {
     pub fn step(&mut self, dt: f64) {
         self.apply_forces();
         self.integrate(dt);
+        self.isolate_non_finite();
         self.time += dt;
         self.steps += 1;
+    }
+
+    /// Bodies isolated so far because their state went non-finite (NaN or infinity).
+    pub fn faults(&self) -> &[Fault] {
+        &self.faults
     }
 
     fn apply_forces(&mut self) {
@@ -113,6 +131,22 @@ impl World {
         for body in &mut self.bodies {
             integrate::integrate_body(body, dt, self.settings.integrator);
             body.clear_accumulators();
+        }
+    }
+
+    /// Diagnostics stage: a body whose state is no longer finite is isolated before anything
+    /// else can read it, so NaN never spreads to other bodies or to the world totals.
+    fn isolate_non_finite(&mut self) {
+        for (index, body) in self.bodies.iter_mut().enumerate() {
+            if body.motion != Motion::Isolated && !body.is_finite() {
+                body.motion = Motion::Isolated;
+                self.faults.push(Fault {
+                    body: BodyId(index as u32),
+                    name: body.name.clone(),
+                    step: self.steps,
+                    time: self.time,
+                });
+            }
         }
     }
 
