@@ -1,4 +1,5 @@
 //! rigid: real-time rigid-body physics for convex bodies, after the engine described in
 //! "Simulation physique de corps rigides avec interaction", with an interactive viewer.
 
+pub mod bench;
 pub mod physics;
