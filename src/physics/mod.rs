@@ -9,6 +9,7 @@ pub mod hull;
 pub mod integrate;
 pub mod mass;
 pub mod shape;
+pub mod soft_solver;
 pub mod world;
 
 pub use body::{BodyDesc, BodyError, BodyId, Material, Motion, RigidBody};

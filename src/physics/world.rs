@@ -22,18 +22,10 @@ use crate::physics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::integrate::{self, Integrator};
 
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct WorldSettings {
     pub integrator: Integrator,
-}
-
-impl Default for WorldSettings {
-    fn default() -> Self {
-        WorldSettings {
-            integrator: Integrator::default(),
-        }
-    }
 }
 
 #[derive(Clone, Debug, Default)]

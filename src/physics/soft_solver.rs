@@ -1,0 +1,381 @@
+//! The `soft` contact solver: substepped sequential impulses on soft constraints.
+//!
+//! Per step, contact points are prepared once (anchors, tangents, effective masses, the
+//! impulses remembered from the last step). Then each substep of length h = dt / substeps:
+//! environmental forces → warm start → solve with a soft position bias → integrate poses →
+//! relax (solve again without bias, removing the velocity the bias added). After the substeps
+//! one restitution pass gives fast impacts their bounce.
+//!
+//! Softness: a penetration is not removed in one substep (which makes stacks jitter) but
+//! pulled out like a critically-damped spring of `contact_hertz` Hz, capped at
+//! `max_push_out` m/s. A contact that is still open (positive separation: speculative) lets
+//! the bodies close the gap in this substep and no more, which stops fast bodies short of
+//! the surface without adding energy.
+//!
+//! The solver works on the bodies' momenta (the report's state): velocities are derived
+//! from them at every use, so a rotating body keeps its angular momentum exactly.
+//!
+//! Material combination: restitution is the smaller of the two (as in the report), friction
+//! the geometric mean √(μa μb).
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::physics::body::RigidBody;
+use crate::physics::forces::{self, EnvironmentForce};
+use crate::physics::integrate::{self, Integrator};
+
+/// A contact point handed to the solver. The normal points from body `a` to body `b`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactInput {
+    pub a: usize,
+    pub b: usize,
+    /// World position, midway between the two surfaces.
+    pub point: DVec3,
+    pub normal: DVec3,
+    /// Distance between the surfaces along the normal; negative when penetrating.
+    pub separation: f64,
+    /// Identifies the contact feature pair across steps, for warm starting.
+    pub key: u64,
+    /// Normal and friction impulses this point ended the last step with.
+    pub warm_impulse: WarmImpulse,
+}
+
+/// Accumulated impulses per substep, kept across steps for warm starting.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WarmImpulse {
+    pub normal: f64,
+    pub tangent: [f64; 2],
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SoftSolverSettings {
+    pub substeps: u32,
+    /// Stiffness of the contact spring, Hz (capped at a quarter of the substep rate).
+    pub contact_hertz: f64,
+    /// Damping ratio of the contact spring (>1: overdamped, no bounce from push-out).
+    pub damping_ratio: f64,
+    /// Fastest speed at which overlap is pushed out, m/s.
+    pub max_push_out: f64,
+    /// Approach speeds below this do not bounce (resting contacts), m/s.
+    pub restitution_threshold: f64,
+}
+
+impl Default for SoftSolverSettings {
+    fn default() -> Self {
+        SoftSolverSettings {
+            substeps: 4,
+            contact_hertz: 30.0,
+            damping_ratio: 10.0,
+            max_push_out: 3.0,
+            restitution_threshold: 1.0,
+        }
+    }
+}
+
+/// One prepared contact point.
+#[derive(Clone, Copy, Debug)]
+struct PointConstraint {
+    a: usize,
+    b: usize,
+    normal: DVec3,
+    tangents: [DVec3; 2],
+    /// Lever arms (contact point − centre of mass), world axes, fixed for the step: the
+    /// impulses act where the bodies touch, not where that material point has rotated to
+    /// (a rolling ball keeps pushing at its bottom).
+    r_a: DVec3,
+    r_b: DVec3,
+    /// The same arms in body axes: the separation follows the bodies as they turn.
+    anchor_a: DVec3,
+    anchor_b: DVec3,
+    /// Separation = normal · (world anchor b − world anchor a) + separation_offset.
+    separation_offset: f64,
+    normal_mass: f64,
+    tangent_mass: [f64; 2],
+    impulse: WarmImpulse,
+    max_normal_impulse: f64,
+    /// Normal relative velocity at impact (before the step until the contact first pushes):
+    /// what restitution reflects.
+    approach_speed: f64,
+    /// Relative normal acceleration from the environmental forces, for the impact speed.
+    approach_acceleration: f64,
+    friction: f64,
+    restitution: f64,
+}
+
+/// Spring coefficients of a soft constraint for one substep.
+#[derive(Clone, Copy, Debug)]
+struct Softness {
+    bias_rate: f64,
+    mass_scale: f64,
+    impulse_scale: f64,
+}
+
+impl Softness {
+    fn new(hertz: f64, damping_ratio: f64, h: f64) -> Self {
+        let omega = 2.0 * std::f64::consts::PI * hertz;
+        let a1 = 2.0 * damping_ratio + h * omega;
+        let a2 = h * omega * a1;
+        let a3 = 1.0 / (1.0 + a2);
+        Softness {
+            bias_rate: omega / a1,
+            mass_scale: a2 * a3,
+            impulse_scale: a3,
+        }
+    }
+}
+
+/// Everything one soft step needs besides the bodies and contacts.
+pub struct StepContext<'a> {
+    pub forces: &'a [EnvironmentForce],
+    pub integrator: Integrator,
+    pub settings: &'a SoftSolverSettings,
+    pub dt: f64,
+}
+
+/// Advances `bodies` by one step of `ctx.dt` with the given contacts, and returns the
+/// impulses each contact ended with (same order as `contacts`) for warm starting.
+pub fn step(
+    bodies: &mut [RigidBody],
+    contacts: &[ContactInput],
+    ctx: &StepContext,
+) -> Vec<WarmImpulse> {
+    let mut constraints: Vec<PointConstraint> = contacts
+        .iter()
+        .map(|c| prepare(bodies, c, ctx.forces))
+        .collect();
+    let substeps = ctx.settings.substeps.max(1);
+    let h = ctx.dt / substeps as f64;
+    let hertz = ctx.settings.contact_hertz.min(0.25 / h);
+    let softness = Softness::new(hertz, ctx.settings.damping_ratio, h);
+    for _ in 0..substeps {
+        for body in bodies.iter_mut() {
+            forces::apply_environment(ctx.forces, body);
+            integrate::integrate_momenta(body, h);
+            body.clear_accumulators();
+        }
+        warm_start(bodies, &constraints);
+        solve(
+            bodies,
+            &mut constraints,
+            h,
+            Some((softness, ctx.settings.max_push_out)),
+        );
+        for body in bodies.iter_mut().filter(|b| b.is_dynamic()) {
+            integrate::integrate_pose(body, h, ctx.integrator);
+        }
+        solve(bodies, &mut constraints, h, None);
+    }
+    apply_restitution(bodies, &mut constraints, ctx.settings.restitution_threshold);
+    constraints.iter().map(|c| c.impulse).collect()
+}
+
+fn environment_acceleration(body: &RigidBody, forces: &[EnvironmentForce]) -> DVec3 {
+    if !body.is_dynamic() {
+        return DVec3::ZERO;
+    }
+    forces.iter().map(|f| f.force_on(body)).sum::<DVec3>() * body.inv_mass
+}
+
+/// Speed at which two surfaces `gap` apart, closing at `speed` (< 0) under a constant
+/// relative `acceleration`, actually meet: −√(v² − 2 a s) when accelerating toward contact.
+fn impact_speed(speed: f64, acceleration: f64, gap: f64) -> f64 {
+    if gap > 0.0 && acceleration < 0.0 {
+        -(speed * speed - 2.0 * acceleration * gap).sqrt()
+    } else {
+        speed
+    }
+}
+
+fn prepare(
+    bodies: &[RigidBody],
+    contact: &ContactInput,
+    forces: &[EnvironmentForce],
+) -> PointConstraint {
+    let (a, b) = (&bodies[contact.a], &bodies[contact.b]);
+    let normal = contact.normal;
+    let tangents = tangent_basis(normal);
+    let r_a = contact.point - a.position;
+    let r_b = contact.point - b.position;
+    let effective_mass = |direction: DVec3| {
+        let k = a.inv_mass
+            + b.inv_mass
+            + r_a
+                .cross(direction)
+                .dot(a.inv_inertia_world * r_a.cross(direction))
+            + r_b
+                .cross(direction)
+                .dot(b.inv_inertia_world * r_b.cross(direction));
+        if k > 0.0 { 1.0 / k } else { 0.0 }
+    };
+    let relative_velocity = b.point_velocity(contact.point) - a.point_velocity(contact.point);
+    PointConstraint {
+        a: contact.a,
+        b: contact.b,
+        normal,
+        tangents,
+        r_a,
+        r_b,
+        anchor_a: a.orientation.transpose() * r_a,
+        anchor_b: b.orientation.transpose() * r_b,
+        separation_offset: contact.separation - normal.dot(r_b - r_a + b.position - a.position),
+        normal_mass: effective_mass(normal),
+        tangent_mass: [effective_mass(tangents[0]), effective_mass(tangents[1])],
+        impulse: contact.warm_impulse,
+        max_normal_impulse: 0.0,
+        approach_speed: normal.dot(relative_velocity),
+        approach_acceleration: normal
+            .dot(environment_acceleration(b, forces) - environment_acceleration(a, forces)),
+        friction: (a.material.friction * b.material.friction).sqrt(),
+        restitution: a.material.restitution.min(b.material.restitution),
+    }
+}
+
+/// Two unit vectors orthogonal to `n` and to each other.
+fn tangent_basis(n: DVec3) -> [DVec3; 2] {
+    let helper = if n.x.abs() < 0.57 { DVec3::X } else { DVec3::Y };
+    let t1 = n.cross(helper).normalize();
+    [t1, n.cross(t1)]
+}
+
+/// Current separation: the anchors carried along by the bodies' motion in this step.
+fn current_separation(bodies: &[RigidBody], c: &PointConstraint) -> f64 {
+    let (a, b) = (&bodies[c.a], &bodies[c.b]);
+    let anchor_a = a.position + a.orientation * c.anchor_a;
+    let anchor_b = b.position + b.orientation * c.anchor_b;
+    c.normal.dot(anchor_b - anchor_a) + c.separation_offset
+}
+
+fn relative_velocity(bodies: &[RigidBody], c: &PointConstraint, r_a: DVec3, r_b: DVec3) -> DVec3 {
+    let (a, b) = (&bodies[c.a], &bodies[c.b]);
+    let v_b = b.velocity() + b.angular_velocity().cross(r_b);
+    let v_a = a.velocity() + a.angular_velocity().cross(r_a);
+    v_b - v_a
+}
+
+/// Applies +impulse to b and −impulse to a at their lever arms (static bodies ignore it).
+fn apply_pair_impulse(
+    bodies: &mut [RigidBody],
+    c: &PointConstraint,
+    r_a: DVec3,
+    r_b: DVec3,
+    impulse: DVec3,
+) {
+    apply_impulse(&mut bodies[c.a], r_a, -impulse);
+    apply_impulse(&mut bodies[c.b], r_b, impulse);
+}
+
+fn apply_impulse(body: &mut RigidBody, lever: DVec3, impulse: DVec3) {
+    if body.is_dynamic() {
+        body.linear_momentum += impulse;
+        body.angular_momentum += lever.cross(impulse);
+    }
+}
+
+fn warm_start(bodies: &mut [RigidBody], constraints: &[PointConstraint]) {
+    for c in constraints {
+        let (r_a, r_b) = (c.r_a, c.r_b);
+        let impulse = c.normal * c.impulse.normal
+            + c.tangents[0] * c.impulse.tangent[0]
+            + c.tangents[1] * c.impulse.tangent[1];
+        apply_pair_impulse(bodies, c, r_a, r_b, impulse);
+    }
+}
+
+/// One pass over all constraints: normal (soft or rigid) then friction.
+/// `bias` is the softness and push-out cap when solving with position bias, None to relax.
+fn solve(
+    bodies: &mut [RigidBody],
+    constraints: &mut [PointConstraint],
+    h: f64,
+    bias: Option<(Softness, f64)>,
+) {
+    for c in constraints.iter_mut() {
+        let (r_a, r_b) = (c.r_a, c.r_b);
+        solve_normal(bodies, c, r_a, r_b, h, bias);
+        solve_friction(bodies, c, r_a, r_b);
+    }
+}
+
+fn solve_normal(
+    bodies: &mut [RigidBody],
+    c: &mut PointConstraint,
+    r_a: DVec3,
+    r_b: DVec3,
+    h: f64,
+    bias: Option<(Softness, f64)>,
+) {
+    let separation = current_separation(bodies, c);
+    let (velocity_bias, mass_scale, impulse_scale) = if separation > 0.0 {
+        // Speculative: allow the gap to close within this substep, no further.
+        (separation / h, 1.0, 0.0)
+    } else if let Some((soft, max_push_out)) = bias {
+        (
+            (soft.bias_rate * separation).max(-max_push_out),
+            soft.mass_scale,
+            soft.impulse_scale,
+        )
+    } else {
+        (0.0, 1.0, 0.0)
+    };
+    let normal_speed = c.normal.dot(relative_velocity(bodies, c, r_a, r_b));
+    let delta = -c.normal_mass * mass_scale * (normal_speed + velocity_bias)
+        - impulse_scale * c.impulse.normal;
+    let accumulated = (c.impulse.normal + delta).max(0.0);
+    let applied = accumulated - c.impulse.normal;
+    if c.max_normal_impulse == 0.0 && applied > 0.0 {
+        // The contact closes now. Restitution must reflect the speed at which the surfaces
+        // meet: the speed at step start misses up to g·dt of fall, and the gap that is
+        // still open would have been crossed while accelerating.
+        c.approach_speed = impact_speed(normal_speed, c.approach_acceleration, separation);
+    }
+    c.impulse.normal = accumulated;
+    c.max_normal_impulse = c.max_normal_impulse.max(applied);
+    apply_pair_impulse(bodies, c, r_a, r_b, c.normal * applied);
+}
+
+/// Coulomb friction: the tangential impulse stays inside the disc of radius μ·λn.
+fn solve_friction(bodies: &mut [RigidBody], c: &mut PointConstraint, r_a: DVec3, r_b: DVec3) {
+    let limit = c.friction * c.impulse.normal;
+    let slip = relative_velocity(bodies, c, r_a, r_b);
+    let mut accumulated = [0.0; 2];
+    for (axis, total) in accumulated.iter_mut().enumerate() {
+        let speed = c.tangents[axis].dot(slip);
+        *total = c.impulse.tangent[axis] - c.tangent_mass[axis] * speed;
+    }
+    let magnitude = (accumulated[0].powi(2) + accumulated[1].powi(2)).sqrt();
+    if magnitude > limit {
+        let scale = if magnitude > 0.0 {
+            limit / magnitude
+        } else {
+            0.0
+        };
+        accumulated = [accumulated[0] * scale, accumulated[1] * scale];
+    }
+    let applied = c.tangents[0] * (accumulated[0] - c.impulse.tangent[0])
+        + c.tangents[1] * (accumulated[1] - c.impulse.tangent[1]);
+    c.impulse.tangent = accumulated;
+    apply_pair_impulse(bodies, c, r_a, r_b, applied);
+}
+
+/// Newton's restitution on contacts that were approaching faster than the threshold:
+/// the outgoing normal speed becomes −ε times the approach speed.
+fn apply_restitution(
+    bodies: &mut [RigidBody],
+    constraints: &mut [PointConstraint],
+    threshold: f64,
+) {
+    for c in constraints.iter_mut() {
+        if c.restitution == 0.0 || c.approach_speed > -threshold || c.max_normal_impulse == 0.0 {
+            continue;
+        }
+        let (r_a, r_b) = (c.r_a, c.r_b);
+        let normal_speed = c.normal.dot(relative_velocity(bodies, c, r_a, r_b));
+        let delta = -c.normal_mass * (normal_speed + c.restitution * c.approach_speed);
+        let accumulated = (c.impulse.normal + delta).max(0.0);
+        let applied = accumulated - c.impulse.normal;
+        c.impulse.normal = accumulated;
+        apply_pair_impulse(bodies, c, r_a, r_b, c.normal * applied);
+    }
+}
