@@ -21,11 +21,13 @@ pub use shape::{Pose, Shape, ShapeError};
 pub use world::{World, WorldSettings, WorldTotals};
 
 pub mod aabb;
+pub mod broad_phase;
 pub mod contact;
 pub mod epa;
 pub mod gjk;
 
 pub use aabb::Aabb;
+pub use broad_phase::{BodyPair, BroadPhase, BroadPhaseKind, Proxy};
 pub use contact::{Contact, ContactKind, ContactManifold, FeatureId};
 pub use epa::{Penetration, SignedDistance, penetration, signed_distance};
 pub use gjk::{GjkResult, PosedShape, SupportMap, gjk_distance, gjk_intersects};
