@@ -2,21 +2,33 @@
 //!
 //! Reading order of a step: `forces` → `integrate` → diagnostics (see `World::step`).
 
+pub mod aabb;
 pub mod body;
+pub mod broad_phase;
 pub mod compound;
+pub mod contact;
+pub mod epa;
 pub mod forces;
+pub mod gjk;
 pub mod hull;
 pub mod integrate;
+pub mod manifold;
 pub mod mass;
 pub mod shape;
 pub mod soft_solver;
 pub mod world;
 
+pub use aabb::Aabb;
 pub use body::{BodyDesc, BodyError, BodyId, Material, Motion, RigidBody};
+pub use broad_phase::{BodyPair, BroadPhase, BroadPhaseKind, Proxy};
 pub use compound::{Compound, CompoundPart};
+pub use contact::{Contact, ContactKind, ContactManifold, FeatureId};
+pub use epa::{Penetration, SignedDistance, penetration, signed_distance};
 pub use forces::EnvironmentForce;
+pub use gjk::{GjkResult, PosedShape, SupportMap, gjk_distance, gjk_intersects};
 pub use hull::{ConvexHull, HullError, HullFace};
 pub use integrate::Integrator;
+pub use manifold::{contact_manifold, generate_contacts};
 pub use mass::MassProperties;
 pub use shape::{Pose, Shape, ShapeError};
 pub use world::{Fault, World, WorldSettings, WorldTotals};

@@ -1,0 +1,20 @@
+//! Every pair tested: the report's Algorithm 2 in a double loop. O(n²), the reference.
+
+use crate::physics::broad_phase::{BodyPair, BroadPhase, Proxy, wants_pair};
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BruteForce;
+
+impl BroadPhase for BruteForce {
+    fn find_pairs(&mut self, proxies: &[Proxy]) -> Vec<BodyPair> {
+        let mut pairs = Vec::new();
+        for (i, p) in proxies.iter().enumerate() {
+            for (j, q) in proxies.iter().enumerate().skip(i + 1) {
+                if wants_pair(p, q) {
+                    pairs.push(BodyPair::new(i, j));
+                }
+            }
+        }
+        pairs
+    }
+}

@@ -1,0 +1,391 @@
+//! EPA (expanding polytope): when two shapes overlap, the penetration depth is the distance
+//! from the origin to the boundary of their Minkowski difference M = A ⊖ B. Starting from a
+//! polytope inside M that holds the origin (GJK's last simplex), the face nearest the origin
+//! is pushed out to the support point along its normal until the face lies on M's boundary.
+//!
+//! Normal convention: `normal` points from A towards B. Moving B by `depth * normal` (or A by
+//! the opposite) brings the shapes to touching.
+
+use glam::DVec3;
+
+use crate::physics::gjk::{CoreDistance, Simplex, SupportMap, SupportPoint, gjk_core_distance};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Penetration {
+    /// ≥ 0
+    pub depth: f64,
+    /// Unit, from A towards B.
+    pub normal: DVec3,
+    /// The point of A deepest inside B, and the point of B deepest inside A (on the cores
+    /// when `epa` is called directly; `penetration` adds the margins).
+    pub point_a: DVec3,
+    pub point_b: DVec3,
+    pub iterations: u32,
+}
+
+/// Signed distance between two shapes: positive gap or negative penetration depth, with
+/// the normal from A to B and the witness points on each shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SignedDistance {
+    pub distance: f64,
+    pub normal: DVec3,
+    pub point_a: DVec3,
+    pub point_b: DVec3,
+    /// GJK iterations plus EPA iterations.
+    pub iterations: u32,
+}
+
+pub const EPA_MAX_ITERATIONS: u32 = 128;
+/// The support along the nearest face's normal must lie within this fraction of the size of
+/// M from the face (curved shapes only converge to a tolerance).
+const RELATIVE_TOLERANCE: f64 = 1e-9;
+
+/// Distance when apart, depth when overlapping: GJK for the gap and shallow overlaps of the
+/// margins, EPA on the cores when the cores themselves overlap (then the margins add to the
+/// core depth, which keeps round shapes exact).
+pub fn signed_distance(a: &impl SupportMap, b: &impl SupportMap) -> SignedDistance {
+    let core = gjk_core_distance(a, b);
+    if !core.overlap && core.distance > f64::MIN_POSITIVE {
+        return from_separate_cores(a, b, &core);
+    }
+    let p = epa(a, b, &core.simplex);
+    SignedDistance {
+        distance: -(p.depth + a.margin() + b.margin()),
+        normal: p.normal,
+        point_a: p.point_a + p.normal * a.margin(),
+        point_b: p.point_b - p.normal * b.margin(),
+        iterations: core.iterations + p.iterations,
+    }
+}
+
+/// None when the shapes are apart; the penetration (possibly 0 when touching) otherwise.
+pub fn penetration(a: &impl SupportMap, b: &impl SupportMap) -> Option<Penetration> {
+    let signed = signed_distance(a, b);
+    (signed.distance <= 0.0).then_some(Penetration {
+        depth: -signed.distance,
+        normal: signed.normal,
+        point_a: signed.point_a,
+        point_b: signed.point_b,
+        iterations: signed.iterations,
+    })
+}
+
+fn from_separate_cores(
+    a: &impl SupportMap,
+    b: &impl SupportMap,
+    core: &CoreDistance,
+) -> SignedDistance {
+    let normal = (core.point_b - core.point_a) / core.distance;
+    SignedDistance {
+        distance: core.distance - a.margin() - b.margin(),
+        normal,
+        point_a: core.point_a + normal * a.margin(),
+        point_b: core.point_b - normal * b.margin(),
+        iterations: core.iterations,
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Face {
+    vertices: [usize; 3],
+    normal: DVec3,
+    /// normal · (any vertex): distance of the face plane from the origin.
+    distance: f64,
+    alive: bool,
+}
+
+struct Polytope {
+    points: Vec<SupportPoint>,
+    faces: Vec<Face>,
+}
+
+impl Polytope {
+    /// Faces are wound counter-clockwise seen from outside, so a face's normal points out.
+    fn add_face(&mut self, vertices: [usize; 3]) {
+        let [p, q, r] = vertices.map(|i| self.points[i].w);
+        let cross = (q - p).cross(r - p);
+        let length = cross.length();
+        let scale = (q - p).length() * (r - p).length();
+        let (normal, distance) = if length > 1e-13 * scale && length.is_finite() {
+            let normal = cross / length;
+            (normal, normal.dot(p))
+        } else {
+            // A sliver: keep it for the topology but never pick it as the nearest face.
+            (DVec3::ZERO, f64::INFINITY)
+        };
+        self.faces.push(Face {
+            vertices,
+            normal,
+            distance,
+            alive: true,
+        });
+    }
+
+    fn nearest_face(&self) -> Option<usize> {
+        self.faces
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| f.alive && f.distance.is_finite())
+            .min_by(|(_, x), (_, y)| x.distance.total_cmp(&y.distance))
+            .map(|(i, _)| i)
+    }
+
+    /// Removes the faces that `point` sees and closes the hole with a fan to the point. The
+    /// seen region is grown from `seed` (a face the point certainly sees) across shared
+    /// edges, so it stays connected and its rim is one simple loop even when round-off
+    /// makes far faces look visible.
+    fn expand(&mut self, seed: usize, point: SupportPoint) {
+        let new_index = self.points.len();
+        self.points.push(point);
+        let mut rim: Vec<[usize; 2]> = Vec::new();
+        let mut stack = vec![seed];
+        self.faces[seed].alive = false;
+        while let Some(current) = stack.pop() {
+            let [i, j, k] = self.faces[current].vertices;
+            for edge in [[i, j], [j, k], [k, i]] {
+                match self.neighbour_across(edge) {
+                    Some(next) if self.faces[next].sees(point.w) => {
+                        self.faces[next].alive = false;
+                        stack.push(next);
+                    }
+                    // Already removed: the edge is inside the region.
+                    None => {}
+                    Some(_) => rim.push(edge),
+                }
+            }
+        }
+        for edge in rim {
+            self.add_face([edge[0], edge[1], new_index]);
+        }
+        self.faces.retain(|f| f.alive);
+    }
+
+    /// The live face on the other side of a directed edge.
+    fn neighbour_across(&self, [i, j]: [usize; 2]) -> Option<usize> {
+        self.faces.iter().position(|f| {
+            let [p, q, r] = f.vertices;
+            f.alive && ([p, q] == [j, i] || [q, r] == [j, i] || [r, p] == [j, i])
+        })
+    }
+}
+
+impl Face {
+    /// Slivers (no normal) count as seen so that they get replaced.
+    fn sees(&self, point: DVec3) -> bool {
+        !self.distance.is_finite() || self.normal.dot(point) > self.distance
+    }
+}
+
+/// EPA on the cores (margins excluded) from a GJK core simplex whose hull holds the origin.
+pub fn epa(a: &impl SupportMap, b: &impl SupportMap, simplex: &Simplex) -> Penetration {
+    let mut polytope = match initial_polytope(a, b, simplex) {
+        Ok(polytope) => polytope,
+        Err(flat) => return flat_penetration(a, b, &flat, simplex.witnesses()),
+    };
+    let scale = polytope
+        .points
+        .iter()
+        .map(|p| p.w.length())
+        .fold(0.0, f64::max);
+    let tolerance = RELATIVE_TOLERANCE * scale.max(f64::MIN_POSITIVE);
+    let mut iterations = 0;
+    let mut best = polytope.nearest_face().expect("a tetrahedron has faces");
+    while iterations < EPA_MAX_ITERATIONS {
+        iterations += 1;
+        let face = polytope.faces[best];
+        let support = SupportPoint::of_cores(a, b, face.normal);
+        if support.w.dot(face.normal) - face.distance <= tolerance {
+            break;
+        }
+        polytope.expand(best, support);
+        match polytope.nearest_face() {
+            Some(next) => best = next,
+            None => break,
+        }
+        if polytope.faces[best].distance.is_infinite() {
+            break;
+        }
+    }
+    let face = polytope.faces[best];
+    witness(&polytope, &face, iterations)
+}
+
+/// Barycentric coordinates of the origin's projection on the face give the points on A and B.
+fn witness(polytope: &Polytope, face: &Face, iterations: u32) -> Penetration {
+    let [p, q, r] = face.vertices.map(|i| polytope.points[i]);
+    let projected = face.normal * face.distance;
+    let weights = barycentric(projected, p.w, q.w, r.w);
+    Penetration {
+        depth: face.distance.max(0.0),
+        normal: face.normal,
+        point_a: p.a * weights.x + q.a * weights.y + r.a * weights.z,
+        point_b: p.b * weights.x + q.b * weights.y + r.b * weights.z,
+        iterations,
+    }
+}
+
+fn barycentric(point: DVec3, p: DVec3, q: DVec3, r: DVec3) -> DVec3 {
+    let normal = (q - p).cross(r - p);
+    let area = normal.length_squared();
+    if area <= f64::MIN_POSITIVE {
+        return DVec3::new(1.0, 0.0, 0.0);
+    }
+    let u = (r - q).cross(point - q).dot(normal) / area;
+    let v = (p - r).cross(point - r).dot(normal) / area;
+    DVec3::new(u, v, 1.0 - u - v)
+}
+
+/// A tetrahedron holding the origin, wound outward. GJK's simplex may have fewer than four
+/// points when the shapes just touch; it is completed with supports along directions that
+/// leave the simplex's affine hull. When no direction does, the core difference is flat (two
+/// round cores: points and segments) and the flat span is returned instead.
+fn initial_polytope(
+    a: &impl SupportMap,
+    b: &impl SupportMap,
+    simplex: &Simplex,
+) -> Result<Polytope, Vec<SupportPoint>> {
+    let mut points: Vec<SupportPoint> = simplex.vertices().to_vec();
+    if points.len() == 4 && tetra_volume(&points).abs() <= volume_floor(&points) {
+        points.truncate(3);
+    }
+    while points.len() < 4 {
+        let next = most_independent_support(a, b, &points);
+        if span_distance(&points, next.w) <= FLAT_TOLERANCE * size_of(&points).max(next.w.length())
+        {
+            return Err(points);
+        }
+        points.push(next);
+    }
+    if tetra_volume(&points) < 0.0 {
+        points.swap(0, 1);
+    }
+    let mut polytope = Polytope {
+        points,
+        faces: Vec::new(),
+    };
+    // With positive volume (b−a)×(c−a)·(d−a) > 0, these windings face outward.
+    for face in [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
+        polytope.add_face(face);
+    }
+    Ok(polytope)
+}
+
+/// Relative thickness below which a core difference counts as flat.
+const FLAT_TOLERANCE: f64 = 1e-9;
+
+fn size_of(points: &[SupportPoint]) -> f64 {
+    points.iter().map(|p| p.w.length()).fold(0.0, f64::max)
+}
+
+/// Flat core difference through the origin: the cores cross, so the depth of the cores is 0
+/// along any normal of their span. Among those normals the one closest to the line between
+/// the shapes' inner points is taken, oriented from A to B.
+fn flat_penetration(
+    a: &impl SupportMap,
+    b: &impl SupportMap,
+    span: &[SupportPoint],
+    (point_a, point_b): (DVec3, DVec3),
+) -> Penetration {
+    let towards_b = b.inner_point() - a.inner_point();
+    let mut normal = towards_b;
+    if span.len() == 2 {
+        let axis = (span[1].w - span[0].w).normalize_or_zero();
+        normal -= axis * axis.dot(normal);
+    } else if span.len() == 3 {
+        let plane = (span[1].w - span[0].w)
+            .cross(span[2].w - span[0].w)
+            .normalize_or_zero();
+        normal = plane * plane.dot(normal).signum();
+    }
+    let normal = normal
+        .try_normalize()
+        .unwrap_or_else(|| fallback_normal(span));
+    Penetration {
+        depth: 0.0,
+        normal,
+        point_a,
+        point_b,
+        iterations: 0,
+    }
+}
+
+fn fallback_normal(span: &[SupportPoint]) -> DVec3 {
+    match span.len() {
+        2 => (span[1].w - span[0].w)
+            .normalize_or(DVec3::X)
+            .any_orthonormal_vector(),
+        3 => (span[1].w - span[0].w)
+            .cross(span[2].w - span[0].w)
+            .normalize_or(DVec3::Y),
+        _ => DVec3::Y,
+    }
+}
+
+fn tetra_volume(points: &[SupportPoint]) -> f64 {
+    let [a, b, c, d] = [points[0].w, points[1].w, points[2].w, points[3].w];
+    (b - a).cross(c - a).dot(d - a)
+}
+
+fn volume_floor(points: &[SupportPoint]) -> f64 {
+    let size = size_of(points);
+    1e-12 * size * size * size
+}
+
+/// Among supports along candidate directions, the one farthest from the current points' span.
+fn most_independent_support(
+    a: &impl SupportMap,
+    b: &impl SupportMap,
+    points: &[SupportPoint],
+) -> SupportPoint {
+    let directions = candidate_directions(points);
+    directions
+        .iter()
+        .map(|&d| SupportPoint::of_cores(a, b, d))
+        .max_by(|x, y| span_distance(points, x.w).total_cmp(&span_distance(points, y.w)))
+        .expect("candidate directions are never empty")
+}
+
+fn candidate_directions(points: &[SupportPoint]) -> Vec<DVec3> {
+    let mut directions = vec![
+        DVec3::X,
+        -DVec3::X,
+        DVec3::Y,
+        -DVec3::Y,
+        DVec3::Z,
+        -DVec3::Z,
+    ];
+    match points.len() {
+        2 => {
+            let axis = (points[1].w - points[0].w).normalize_or(DVec3::X);
+            let (u, v) = axis.any_orthonormal_pair();
+            directions.extend([u, -u, v, -v]);
+        }
+        3 => {
+            let normal = (points[1].w - points[0].w)
+                .cross(points[2].w - points[0].w)
+                .normalize_or(DVec3::X);
+            directions.extend([normal, -normal]);
+        }
+        _ => {}
+    }
+    directions
+}
+
+/// Distance from `w` to the affine hull of `points` (1 to 3 points).
+fn span_distance(points: &[SupportPoint], w: DVec3) -> f64 {
+    let origin = points[0].w;
+    let offset = w - origin;
+    match points.len() {
+        1 => offset.length(),
+        2 => {
+            let axis = (points[1].w - origin).normalize_or_zero();
+            (offset - axis * axis.dot(offset)).length()
+        }
+        _ => {
+            let normal = (points[1].w - origin)
+                .cross(points[2].w - origin)
+                .normalize_or_zero();
+            normal.dot(offset).abs()
+        }
+    }
+}

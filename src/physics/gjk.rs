@@ -1,0 +1,461 @@
+//! GJK (report section 3.1.2): the distance between two convex shapes is the distance from the
+//! origin to their Minkowski difference M = A ⊖ B, found by growing and shrinking a simplex
+//! of support points of M, with S_M(d) = S_A(d) − S_B(−d).
+//!
+//! Round shapes are handled as a core plus a margin: a sphere is its centre swept by its
+//! radius, a capsule its segment swept by its radius. GJK runs on the cores, where it
+//! converges in a few iterations to the exact answer, and the margins are subtracted after.
+//! When even the cores overlap, the shapes penetrate deeply and `epa` takes over.
+
+use glam::{DMat3, DVec3};
+
+use crate::physics::body::RigidBody;
+use crate::physics::shape::Shape;
+
+/// Anything GJK can measure: a convex set given by the support function of its core and a
+/// margin (the radius of the ball swept over the core). All coordinates are world.
+pub trait SupportMap {
+    /// The point of the core farthest along `direction` (which need not be unit).
+    fn core_support(&self, direction: DVec3) -> DVec3;
+
+    /// 0 for polytopes, cylinders and other sharp shapes.
+    fn margin(&self) -> f64;
+
+    /// A point inside the shape, used to choose the first search direction.
+    fn inner_point(&self) -> DVec3;
+
+    /// The support of the full shape (core swept by the margin).
+    fn support(&self, direction: DVec3) -> DVec3 {
+        self.core_support(direction) + direction.normalize_or_zero() * self.margin()
+    }
+}
+
+/// A shape placed in the world: its own origin at `origin`, its axes the columns of `rotation`.
+#[derive(Clone, Copy, Debug)]
+pub struct PosedShape<'a> {
+    pub shape: &'a Shape,
+    pub origin: DVec3,
+    pub rotation: DMat3,
+}
+
+impl<'a> PosedShape<'a> {
+    pub fn new(shape: &'a Shape, origin: DVec3, rotation: DMat3) -> Self {
+        PosedShape {
+            shape,
+            origin,
+            rotation,
+        }
+    }
+
+    pub fn of_body(body: &'a RigidBody) -> Self {
+        PosedShape::new(&body.shape, body.shape_origin(), body.orientation)
+    }
+
+    pub fn translated(self, offset: DVec3) -> Self {
+        PosedShape {
+            origin: self.origin + offset,
+            ..self
+        }
+    }
+
+    pub fn to_world(&self, local: DVec3) -> DVec3 {
+        self.origin + self.rotation * local
+    }
+
+    pub fn to_local_direction(&self, world: DVec3) -> DVec3 {
+        self.rotation.transpose() * world
+    }
+}
+
+impl SupportMap for PosedShape<'_> {
+    fn core_support(&self, direction: DVec3) -> DVec3 {
+        self.to_world(shape_core_support(
+            self.shape,
+            self.to_local_direction(direction),
+        ))
+    }
+
+    fn margin(&self) -> f64 {
+        shape_margin(self.shape)
+    }
+
+    fn inner_point(&self) -> DVec3 {
+        let (min, max) = self.shape.local_bounds();
+        self.to_world(0.5 * (min + max))
+    }
+}
+
+impl SupportMap for RigidBody {
+    fn core_support(&self, direction: DVec3) -> DVec3 {
+        PosedShape::of_body(self).core_support(direction)
+    }
+
+    fn margin(&self) -> f64 {
+        shape_margin(&self.shape)
+    }
+
+    fn inner_point(&self) -> DVec3 {
+        self.position
+    }
+}
+
+/// A single point (rays are casts of a point).
+impl SupportMap for DVec3 {
+    fn core_support(&self, _direction: DVec3) -> DVec3 {
+        *self
+    }
+
+    fn margin(&self) -> f64 {
+        0.0
+    }
+
+    fn inner_point(&self) -> DVec3 {
+        *self
+    }
+}
+
+/// The radius swept over the core of a shape (see the module comment).
+pub fn shape_margin(shape: &Shape) -> f64 {
+    match shape {
+        Shape::Sphere { radius } | Shape::Capsule { radius, .. } => *radius,
+        _ => 0.0,
+    }
+}
+
+/// Local support of the core: a sphere's centre, a capsule's segment, else the shape itself.
+pub fn shape_core_support(shape: &Shape, direction: DVec3) -> DVec3 {
+    match shape {
+        Shape::Sphere { .. } => DVec3::ZERO,
+        Shape::Capsule { half_height, .. } => {
+            DVec3::new(0.0, half_height.copysign(direction.y), 0.0)
+        }
+        _ => shape.support(direction),
+    }
+}
+
+/// A vertex of the Minkowski difference with the two shape points it came from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SupportPoint {
+    /// w = a − b
+    pub w: DVec3,
+    pub a: DVec3,
+    pub b: DVec3,
+}
+
+impl SupportPoint {
+    /// Support of the core difference along `direction`.
+    pub fn of_cores(a: &impl SupportMap, b: &impl SupportMap, direction: DVec3) -> Self {
+        let pa = a.core_support(direction);
+        let pb = b.core_support(-direction);
+        SupportPoint {
+            w: pa - pb,
+            a: pa,
+            b: pb,
+        }
+    }
+}
+
+/// Up to four support points with the barycentric weights of the point closest to the origin.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Simplex {
+    pub points: [SupportPoint; 4],
+    pub weights: [f64; 4],
+    pub len: usize,
+}
+
+impl Simplex {
+    fn single(point: SupportPoint) -> Self {
+        Simplex {
+            points: [point; 4],
+            weights: [1.0, 0.0, 0.0, 0.0],
+            len: 1,
+        }
+    }
+
+    pub fn vertices(&self) -> &[SupportPoint] {
+        &self.points[..self.len]
+    }
+
+    fn push(&mut self, point: SupportPoint) {
+        self.points[self.len] = point;
+        self.len += 1;
+    }
+
+    /// Σ λᵢ wᵢ, Σ λᵢ aᵢ, Σ λᵢ bᵢ
+    fn combine(&self) -> (DVec3, DVec3, DVec3) {
+        let mut sums = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+        for (p, &l) in self.vertices().iter().zip(&self.weights) {
+            sums.0 += p.w * l;
+            sums.1 += p.a * l;
+            sums.2 += p.b * l;
+        }
+        sums
+    }
+
+    /// The closest points of A and B that the weights describe.
+    pub fn witnesses(&self) -> (DVec3, DVec3) {
+        let (_, a, b) = self.combine();
+        (a, b)
+    }
+
+    fn contains_w(&self, w: DVec3, tolerance_sq: f64) -> bool {
+        self.vertices()
+            .iter()
+            .any(|p| p.w.distance_squared(w) <= tolerance_sq)
+    }
+
+    fn from_weighted(points: &[(SupportPoint, f64)]) -> Self {
+        let mut simplex = Simplex::single(points[0].0);
+        simplex.len = 0;
+        for (i, &(p, l)) in points.iter().enumerate() {
+            simplex.push(p);
+            simplex.weights[i] = l;
+        }
+        simplex
+    }
+}
+
+/// GJK on the cores only (no margins).
+#[derive(Clone, Copy, Debug)]
+pub struct CoreDistance {
+    /// Distance between the cores; 0 when they overlap.
+    pub distance: f64,
+    /// Closest points of the cores (meaningless when `overlap`).
+    pub point_a: DVec3,
+    pub point_b: DVec3,
+    /// The cores overlap: the final simplex encloses (or touches) the origin.
+    pub overlap: bool,
+    pub simplex: Simplex,
+    pub iterations: u32,
+}
+
+/// Result of `gjk_distance` on the full shapes.
+#[derive(Clone, Copy, Debug)]
+pub struct GjkResult {
+    /// Distance between the shapes; 0 when they touch or intersect.
+    pub distance: f64,
+    /// Closest points on A and on B. When intersecting with separate cores they are the
+    /// witnesses of the penetration (they have crossed); with overlapping cores, the core
+    /// witnesses (use `epa::penetration` for a depth).
+    pub point_a: DVec3,
+    pub point_b: DVec3,
+    /// Unit vector from A to B along the closest points (zero when the cores overlap).
+    pub normal: DVec3,
+    pub intersecting: bool,
+    pub iterations: u32,
+}
+
+/// A bound that only pathological inputs reach; typical pairs converge in 3 to 10.
+pub const GJK_MAX_ITERATIONS: u32 = 64;
+
+/// Relative progress below which GJK stops: ‖v‖² − v·w ≤ ε ‖v‖².
+const RELATIVE_TOLERANCE: f64 = 1e-12;
+/// Round-off floor, relative to the square of the size of the simplex.
+const ROUND_OFF: f64 = 1e-14;
+
+/// Distance, closest points and intersection of two convex shapes.
+pub fn gjk_distance(a: &impl SupportMap, b: &impl SupportMap) -> GjkResult {
+    let core = gjk_core_distance(a, b);
+    let margins = a.margin() + b.margin();
+    if core.overlap {
+        return GjkResult {
+            distance: 0.0,
+            point_a: core.point_a,
+            point_b: core.point_b,
+            normal: DVec3::ZERO,
+            intersecting: true,
+            iterations: core.iterations,
+        };
+    }
+    let normal = (core.point_b - core.point_a) / core.distance;
+    GjkResult {
+        distance: (core.distance - margins).max(0.0),
+        point_a: core.point_a + normal * a.margin(),
+        point_b: core.point_b - normal * b.margin(),
+        normal,
+        intersecting: core.distance <= margins,
+        iterations: core.iterations,
+    }
+}
+
+/// True when the shapes touch or overlap.
+pub fn gjk_intersects(a: &impl SupportMap, b: &impl SupportMap) -> bool {
+    gjk_distance(a, b).intersecting
+}
+
+/// GJK on the cores of the shapes.
+pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistance {
+    let first_direction = (b.inner_point() - a.inner_point()).normalize_or(DVec3::X);
+    let mut simplex = Simplex::single(SupportPoint::of_cores(a, b, -first_direction));
+    let mut v = simplex.points[0].w;
+    let mut iterations = 0;
+    let mut overlap = false;
+    while iterations < GJK_MAX_ITERATIONS {
+        iterations += 1;
+        let scale_sq = simplex_scale_sq(&simplex);
+        let v_sq = v.length_squared();
+        if v_sq <= ROUND_OFF * scale_sq {
+            overlap = true;
+            break;
+        }
+        let w = SupportPoint::of_cores(a, b, -v);
+        let gap = v_sq - v.dot(w.w);
+        let floor = ROUND_OFF * scale_sq.max(w.w.length_squared());
+        if gap <= RELATIVE_TOLERANCE * v_sq + floor || simplex.contains_w(w.w, floor) {
+            break;
+        }
+        let mut candidate = simplex;
+        candidate.push(w);
+        let (reduced, enclosed) = closest_on_simplex(&candidate);
+        if enclosed {
+            simplex = candidate;
+            overlap = true;
+            break;
+        }
+        let new_v = reduced.combine().0;
+        if new_v.length_squared() >= v_sq {
+            break; // no progress: round-off has taken over, keep the previous simplex
+        }
+        simplex = reduced;
+        v = new_v;
+    }
+    let (_, point_a, point_b) = simplex.combine();
+    CoreDistance {
+        distance: if overlap { 0.0 } else { v.length() },
+        point_a,
+        point_b,
+        overlap,
+        simplex,
+        iterations,
+    }
+}
+
+fn simplex_scale_sq(simplex: &Simplex) -> f64 {
+    simplex
+        .vertices()
+        .iter()
+        .map(|p| p.w.length_squared())
+        .fold(0.0, f64::max)
+}
+
+/// The sub-simplex whose affine hull holds the point closest to the origin, with its
+/// barycentric weights; `true` when a full tetrahedron encloses the origin.
+fn closest_on_simplex(simplex: &Simplex) -> (Simplex, bool) {
+    let p = simplex.vertices();
+    match p.len() {
+        1 => (Simplex::single(p[0]), false),
+        2 => (closest_on_segment(p[0], p[1]), false),
+        3 => (closest_on_triangle(p[0], p[1], p[2]), false),
+        _ => closest_on_tetrahedron(p[0], p[1], p[2], p[3]),
+    }
+}
+
+fn closest_on_segment(a: SupportPoint, b: SupportPoint) -> Simplex {
+    let edge = b.w - a.w;
+    let length_sq = edge.length_squared();
+    if length_sq <= f64::MIN_POSITIVE {
+        return Simplex::single(a);
+    }
+    let t = -a.w.dot(edge) / length_sq;
+    if t <= 0.0 {
+        Simplex::single(a)
+    } else if t >= 1.0 {
+        Simplex::single(b)
+    } else {
+        Simplex::from_weighted(&[(a, 1.0 - t), (b, t)])
+    }
+}
+
+/// Voronoi regions of the triangle seen from the origin: a vertex, an edge or the inside.
+fn closest_on_triangle(a: SupportPoint, b: SupportPoint, c: SupportPoint) -> Simplex {
+    let ab = b.w - a.w;
+    let ac = c.w - a.w;
+    let d1 = ab.dot(-a.w);
+    let d2 = ac.dot(-a.w);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return Simplex::single(a);
+    }
+    let d3 = ab.dot(-b.w);
+    let d4 = ac.dot(-b.w);
+    if d3 >= 0.0 && d4 <= d3 {
+        return Simplex::single(b);
+    }
+    let d5 = ab.dot(-c.w);
+    let d6 = ac.dot(-c.w);
+    if d6 >= 0.0 && d5 <= d6 {
+        return Simplex::single(c);
+    }
+    // Barycentric areas (scaled) opposite each vertex.
+    let area_c = d1 * d4 - d3 * d2;
+    let area_b = d5 * d2 - d1 * d6;
+    let area_a = d3 * d6 - d5 * d4;
+    if area_c <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return closest_on_segment(a, b);
+    }
+    if area_b <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return closest_on_segment(a, c);
+    }
+    if area_a <= 0.0 && d4 >= d3 && d5 >= d6 {
+        return closest_on_segment(b, c);
+    }
+    let total = area_a + area_b + area_c;
+    let scale = ab.length_squared() * ac.length_squared();
+    if total <= 1e-14 * scale || !total.is_finite() {
+        return best_of([
+            closest_on_segment(a, b),
+            closest_on_segment(a, c),
+            closest_on_segment(b, c),
+        ]);
+    }
+    Simplex::from_weighted(&[
+        (a, area_a / total),
+        (b, area_b / total),
+        (c, area_c / total),
+    ])
+}
+
+/// Faces whose plane separates the origin from the opposite vertex are candidates; the
+/// origin is enclosed when there is none.
+fn closest_on_tetrahedron(
+    a: SupportPoint,
+    b: SupportPoint,
+    c: SupportPoint,
+    d: SupportPoint,
+) -> (Simplex, bool) {
+    let faces = [(a, b, c, d), (a, c, d, b), (a, d, b, c), (b, d, c, a)];
+    let mut candidates = Vec::with_capacity(4);
+    for (p, q, r, opposite) in faces {
+        if origin_outside_face(p.w, q.w, r.w, opposite.w) {
+            candidates.push(closest_on_triangle(p, q, r));
+        }
+    }
+    if candidates.is_empty() {
+        let mut enclosed = Simplex::single(a);
+        enclosed.len = 0;
+        for p in [a, b, c, d] {
+            enclosed.push(p);
+        }
+        return (enclosed, true);
+    }
+    (best_of(candidates), false)
+}
+
+/// A flat tetrahedron counts every face as a candidate.
+fn origin_outside_face(p: DVec3, q: DVec3, r: DVec3, opposite: DVec3) -> bool {
+    let normal = (q - p).cross(r - p);
+    let opposite_side = normal.dot(opposite - p);
+    let origin_side = normal.dot(-p);
+    let flat = opposite_side.abs() <= 1e-12 * normal.length() * (opposite - p).length();
+    flat || origin_side * opposite_side < 0.0 || origin_side == 0.0
+}
+
+fn best_of(candidates: impl IntoIterator<Item = Simplex>) -> Simplex {
+    candidates
+        .into_iter()
+        .min_by(|x, y| {
+            let dx = x.combine().0.length_squared();
+            let dy = y.combine().0.length_squared();
+            dx.total_cmp(&dy)
+        })
+        .expect("at least one candidate")
+}

@@ -1,0 +1,166 @@
+//! Bounding boxes and the three broad phases against brute force on random scenes.
+
+mod common;
+
+use common::*;
+use glam::{DMat3, DVec3};
+use proptest::prelude::*;
+use rigid::physics::broad_phase::{BruteForce, SweepAndPrune, UniformGrid};
+use rigid::physics::{
+    Aabb, BroadPhase, BroadPhaseKind, Motion, PosedShape, Proxy, Shape, SupportMap,
+};
+
+fn vec3(range: std::ops::Range<f64>) -> impl Strategy<Value = DVec3> {
+    (range.clone(), range.clone(), range).prop_map(|(x, y, z)| DVec3::new(x, y, z))
+}
+
+fn shape() -> impl Strategy<Value = Shape> {
+    prop_oneof![
+        (0.05..2.0f64).prop_map(Shape::sphere),
+        vec3(0.05..2.0).prop_map(Shape::cuboid),
+        (0.05..2.0f64, 0.05..2.0f64).prop_map(|(h, r)| Shape::capsule(h, r)),
+        (0.05..2.0f64, 0.05..2.0f64).prop_map(|(h, r)| Shape::cylinder(h, r)),
+        vec3(0.05..2.0).prop_map(|h| hull_shape(octahedron_hull(h))),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// The box is tight: each face touches the shape (the support along that axis), and it
+    /// holds the support points in many directions.
+    #[test]
+    fn aabb_is_tight_at_any_orientation(shape in shape(), origin in vec3(-5.0..5.0), r in vec3(-1.0..1.0)) {
+        let rotation = DMat3::from_quat(rotation_from(r));
+        let aabb = Aabb::of_shape(&shape, origin, rotation);
+        let posed = PosedShape::new(&shape, origin, rotation);
+        for axis in 0..3 {
+            let dir = DVec3::AXES[axis];
+            prop_assert!((posed.support(dir)[axis] - aabb.max[axis]).abs() < 1e-12);
+            prop_assert!((posed.support(-dir)[axis] - aabb.min[axis]).abs() < 1e-12);
+        }
+        for k in 0..200 {
+            let t = k as f64 * 0.7;
+            let dir = DVec3::new(t.sin() * (0.3 * t).cos(), t.cos(), (1.3 * t).sin());
+            prop_assert!(aabb.fattened(1e-12).contains_point(posed.support(dir)));
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Scene {
+    boxes: Vec<(DVec3, DVec3, bool)>,
+}
+
+impl Scene {
+    fn proxies(&self) -> Vec<Proxy> {
+        self.boxes
+            .iter()
+            .map(|&(center, half, active)| Proxy {
+                aabb: Aabb::from_center_half_extents(center, half),
+                active,
+            })
+            .collect()
+    }
+}
+
+fn scene() -> impl Strategy<Value = Scene> {
+    let body = (vec3(-10.0..10.0), vec3(0.05..2.0), any::<bool>());
+    let ground = (
+        Just(DVec3::new(0.0, -10.0, 0.0)),
+        Just(DVec3::new(50.0, 0.5, 50.0)),
+        Just(false),
+    );
+    (prop::collection::vec(body, 0..80), prop::option::of(ground)).prop_map(
+        |(mut boxes, ground)| {
+            boxes.extend(ground);
+            Scene { boxes }
+        },
+    )
+}
+
+fn moves(count: usize) -> impl Strategy<Value = Vec<DVec3>> {
+    prop::collection::vec(vec3(-0.3..0.3), count)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+
+    /// Every implementation returns exactly the brute-force pairs, before and after every
+    /// body moves a little (the sweep and prune keeps its order between calls).
+    #[test]
+    fn implementations_agree_with_brute_force(
+        (scene, steps) in scene().prop_flat_map(|s| {
+            let n = s.boxes.len();
+            (Just(s), prop::collection::vec(moves(n), 1..4))
+        }),
+        cell_size in 0.5..6.0f64,
+    ) {
+        let mut scene = scene;
+        let mut grid = UniformGrid::new(cell_size);
+        let mut sweep_x = SweepAndPrune::along(0);
+        let mut sweep_y = SweepAndPrune::along(1);
+        for step in std::iter::once(None).chain(steps.iter().map(Some)) {
+            if let Some(offsets) = step {
+                for (b, offset) in scene.boxes.iter_mut().zip(offsets) {
+                    b.0 += *offset;
+                }
+            }
+            let proxies = scene.proxies();
+            let expected = BruteForce.find_pairs(&proxies);
+            for pair in &expected {
+                prop_assert!(proxies[pair.a.index()].active || proxies[pair.b.index()].active);
+            }
+            prop_assert_eq!(&grid.find_pairs(&proxies), &expected);
+            prop_assert_eq!(&sweep_x.find_pairs(&proxies), &expected);
+            prop_assert_eq!(&sweep_y.find_pairs(&proxies), &expected);
+        }
+    }
+}
+
+#[test]
+fn static_and_sleeping_pairs_are_skipped() {
+    // Three overlapping boxes: two inactive (static or asleep), one active.
+    let proxy = |x: f64, active| Proxy {
+        aabb: Aabb::from_center_half_extents(DVec3::new(x, 0.0, 0.0), DVec3::ONE),
+        active,
+    };
+    let proxies = [proxy(0.0, false), proxy(1.0, false), proxy(2.0, true)];
+    for kind in [
+        BroadPhaseKind::BruteForce,
+        BroadPhaseKind::UniformGrid { cell_size: 1.0 },
+        BroadPhaseKind::SweepAndPrune,
+    ] {
+        let pairs = kind.create().find_pairs(&proxies);
+        let ids: Vec<(u32, u32)> = pairs.iter().map(|p| (p.a.0, p.b.0)).collect();
+        assert_eq!(ids, vec![(0, 2), (1, 2)], "{kind:?}");
+    }
+}
+
+#[test]
+fn proxies_of_bodies_use_motion() {
+    let floor = body(
+        Shape::cuboid(DVec3::new(5.0, 0.5, 5.0)),
+        DVec3::ZERO,
+        Default::default(),
+        Motion::Static,
+    );
+    let ball = body(
+        Shape::sphere(0.5),
+        DVec3::Y,
+        Default::default(),
+        Motion::Dynamic,
+    );
+    let proxies = [Proxy::of_body(&floor, 0.01), Proxy::of_body(&ball, 0.01)];
+    assert!(!proxies[0].active && proxies[1].active);
+    assert!((proxies[1].aabb.min.y - 0.49).abs() < 1e-12);
+    assert_eq!(SweepAndPrune::default().find_pairs(&proxies).len(), 1);
+}
+
+#[test]
+fn swept_box_holds_both_ends() {
+    let aabb = Aabb::from_center_half_extents(DVec3::ZERO, DVec3::splat(0.01));
+    let swept = aabb.swept(DVec3::new(5.0, -1.0, 0.0));
+    assert_eq!(swept.min, DVec3::new(-0.01, -1.01, -0.01));
+    assert_eq!(swept.max, DVec3::new(5.01, 0.01, 0.01));
+}

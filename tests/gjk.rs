@@ -1,0 +1,408 @@
+//! GJK distance and EPA penetration against independent references on random shapes and poses.
+
+mod common;
+
+use common::*;
+use glam::{DMat3, DQuat, DVec3};
+use proptest::prelude::*;
+use rigid::physics::gjk::{GJK_MAX_ITERATIONS, SupportMap};
+use rigid::physics::{PosedShape, Shape, gjk_distance, gjk_intersects, penetration};
+
+#[derive(Clone, Debug)]
+enum Spec {
+    Sphere(f64),
+    Cuboid(DVec3),
+    Capsule(f64, f64),
+    Cylinder(f64, f64),
+    BoxHull(DVec3),
+    Octahedron(DVec3),
+}
+
+impl Spec {
+    fn shape(&self) -> Shape {
+        match self {
+            Spec::Sphere(r) => Shape::sphere(*r),
+            Spec::Cuboid(h) => Shape::cuboid(*h),
+            Spec::Capsule(h, r) => Shape::capsule(*h, *r),
+            Spec::Cylinder(h, r) => Shape::cylinder(*h, *r),
+            Spec::BoxHull(h) => hull_shape(box_hull(*h)),
+            Spec::Octahedron(h) => hull_shape(octahedron_hull(*h)),
+        }
+    }
+
+    /// The core as vertices, triangles and edges, and the margin around it (used by the exact
+    /// reference). A cylinder becomes a prism inscribed in it, or circumscribed about it.
+    fn core(&self, circumscribed: bool) -> (Features, f64) {
+        let hull = match self {
+            Spec::Cuboid(h) | Spec::BoxHull(h) => box_hull(*h),
+            Spec::Octahedron(h) => octahedron_hull(*h),
+            Spec::Sphere(r) => return ((vec![DVec3::ZERO], vec![], vec![]), *r),
+            Spec::Capsule(h, r) => {
+                let ends = vec![DVec3::Y * *h, -DVec3::Y * *h];
+                return ((ends, vec![], vec![[0, 1]]), *r);
+            }
+            Spec::Cylinder(h, r) => return (prism(*h, *r, circumscribed), 0.0),
+        };
+        let triangles = hull
+            .faces
+            .iter()
+            .flat_map(|f| {
+                (1..f.vertices.len() - 1).map(move |k| {
+                    [f.vertices[0], f.vertices[k], f.vertices[k + 1]].map(|i| i as usize)
+                })
+            })
+            .collect();
+        let edges = hull.edges.iter().map(|e| e.map(|i| i as usize)).collect();
+        ((hull.vertices, triangles, edges), 0.0)
+    }
+
+    fn size(&self) -> f64 {
+        self.shape().bounding_radius()
+    }
+}
+
+/// Vertices, triangles, edges.
+type Features = (Vec<DVec3>, Vec<[usize; 3]>, Vec<[usize; 2]>);
+
+fn extent() -> std::ops::Range<f64> {
+    0.05..2.0f64
+}
+
+fn extents() -> impl Strategy<Value = DVec3> {
+    (extent(), extent(), extent()).prop_map(|(x, y, z)| DVec3::new(x, y, z))
+}
+
+fn spec() -> impl Strategy<Value = Spec> {
+    prop_oneof![
+        extent().prop_map(Spec::Sphere),
+        extents().prop_map(Spec::Cuboid),
+        (extent(), extent()).prop_map(|(h, r)| Spec::Capsule(h, r)),
+        (extent(), extent()).prop_map(|(h, r)| Spec::Cylinder(h, r)),
+        extents().prop_map(Spec::BoxHull),
+        extents().prop_map(Spec::Octahedron),
+    ]
+}
+
+fn pose() -> impl Strategy<Value = (DVec3, DQuat)> {
+    let unit = -1.0..1.0f64;
+    (
+        (-3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64),
+        (unit.clone(), unit.clone(), unit),
+    )
+        .prop_map(|((x, y, z), (a, b, c))| {
+            (DVec3::new(x, y, z), rotation_from(DVec3::new(a, b, c)))
+        })
+}
+
+fn posed<'a>(shape: &'a Shape, (t, q): (DVec3, DQuat)) -> PosedShape<'a> {
+    PosedShape::new(shape, t, DMat3::from_quat(q))
+}
+
+const PRISM_SIDES: usize = 96;
+
+/// A regular prism around the y axis, inscribed in the cylinder or circumscribed about it.
+fn prism(h: f64, r: f64, circumscribed: bool) -> Features {
+    let n = PRISM_SIDES;
+    let step = std::f64::consts::TAU / n as f64;
+    let radius = if circumscribed {
+        r / (0.5 * step).cos()
+    } else {
+        r
+    };
+    let mut vertices = Vec::new();
+    for k in 0..n {
+        let (sin, cos) = (step * k as f64).sin_cos();
+        vertices.push(DVec3::new(radius * cos, h, radius * sin));
+        vertices.push(DVec3::new(radius * cos, -h, radius * sin));
+    }
+    let (top, bottom) = (|k: usize| 2 * (k % n), |k: usize| 2 * (k % n) + 1);
+    let mut triangles = Vec::new();
+    let mut edges = Vec::new();
+    for k in 0..n {
+        triangles.push([top(k), top(k + 1), bottom(k)]);
+        triangles.push([bottom(k), top(k + 1), bottom(k + 1)]);
+        if k > 0 && k + 1 < n {
+            triangles.push([top(0), top(k), top(k + 1)]);
+            triangles.push([bottom(0), bottom(k), bottom(k + 1)]);
+        }
+        edges.extend([
+            [top(k), top(k + 1)],
+            [bottom(k), bottom(k + 1)],
+            [top(k), bottom(k)],
+        ]);
+    }
+    (vertices, triangles, edges)
+}
+
+/// Distance as the best separating plane: max over unit n of −(h_A(n) + h_B(−n)), found by
+/// sampling directions and then refining the best by a shrinking pattern search.
+fn support_reference(a: &impl SupportMap, b: &impl SupportMap) -> f64 {
+    let gap = |n: DVec3| {
+        let n = n.normalize();
+        -(n.dot(a.support(n)) - n.dot(b.support(-n)))
+    };
+    let samples = 2000;
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut best = DVec3::X;
+    for k in 0..samples {
+        let y = 1.0 - 2.0 * (k as f64 + 0.5) / samples as f64;
+        let r = (1.0 - y * y).sqrt();
+        let n = DVec3::new(
+            r * (golden * k as f64).cos(),
+            y,
+            r * (golden * k as f64).sin(),
+        );
+        if gap(n) > gap(best) {
+            best = n;
+        }
+    }
+    let mut step = 0.05;
+    while step > 1e-9 {
+        let (u, v) = best.any_orthonormal_pair();
+        let improved = [u, -u, v, -v, u + v, u - v, -u + v, -u - v]
+            .into_iter()
+            .map(|d| (best + d * step).normalize())
+            .find(|&n| gap(n) > gap(best));
+        match improved {
+            Some(n) => best = n,
+            None => step *= 0.5,
+        }
+    }
+    gap(best)
+}
+
+fn transform(points: &[DVec3], (t, q): (DVec3, DQuat)) -> Vec<DVec3> {
+    points.iter().map(|p| q * *p + t).collect()
+}
+
+fn point_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let e = b - a;
+    let t = ((p - a).dot(e) / e.length_squared()).clamp(0.0, 1.0);
+    p.distance(a + e * t)
+}
+
+fn point_triangle(p: DVec3, [a, b, c]: [DVec3; 3]) -> f64 {
+    let n = (b - a).cross(c - a).normalize();
+    let q = p - n * n.dot(p - a);
+    let inside = [(a, b), (b, c), (c, a)]
+        .iter()
+        .all(|&(u, v)| (v - u).cross(q - u).dot(n) >= 0.0);
+    if inside {
+        return n.dot(p - a).abs();
+    }
+    point_segment(p, a, b)
+        .min(point_segment(p, b, c))
+        .min(point_segment(p, c, a))
+}
+
+fn segment_segment(a0: DVec3, a1: DVec3, b0: DVec3, b1: DVec3) -> f64 {
+    let boundary = point_segment(a0, b0, b1)
+        .min(point_segment(a1, b0, b1))
+        .min(point_segment(b0, a0, a1))
+        .min(point_segment(b1, a0, a1));
+    let (d1, d2, r) = (a1 - a0, b1 - b0, a0 - b0);
+    let (aa, ee, bb) = (d1.dot(d1), d2.dot(d2), d1.dot(d2));
+    let denom = aa * ee - bb * bb;
+    if denom <= 1e-14 * aa * ee {
+        return boundary;
+    }
+    let (c, f) = (d1.dot(r), d2.dot(r));
+    let s = (bb * f - c * ee) / denom;
+    let t = (aa * f - bb * c) / denom;
+    if (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) {
+        boundary.min((a0 + d1 * s).distance(b0 + d2 * t))
+    } else {
+        boundary
+    }
+}
+
+/// Exact distance between two separated convex cores: the nearest pair of features is a
+/// vertex and a triangle, two edges, or two vertices.
+fn core_reference((va, ta, ea): &Features, (vb, tb, eb): &Features) -> f64 {
+    let mut best = f64::INFINITY;
+    for (verts, tris, others) in [(va, ta, vb), (vb, tb, va)] {
+        for tri in tris {
+            for p in others {
+                best = best.min(point_triangle(*p, tri.map(|i| verts[i])));
+            }
+        }
+    }
+    for p in va {
+        for q in vb {
+            best = best.min(p.distance(*q));
+        }
+    }
+    for (verts, edges, others) in [(va, ea, vb), (vb, eb, va)] {
+        for e in edges {
+            for p in others {
+                best = best.min(point_segment(*p, verts[e[0]], verts[e[1]]));
+            }
+        }
+    }
+    for e in ea {
+        for f in eb {
+            best = best.min(segment_segment(va[e[0]], va[e[1]], vb[f[0]], vb[f[1]]));
+        }
+    }
+    best
+}
+
+/// Separating-axis test on the 15 axes of two boxes; returns the largest separation found
+/// (positive: a separating axis exists).
+fn box_sat(ha: DVec3, pa: (DVec3, DQuat), hb: DVec3, pb: (DVec3, DQuat)) -> f64 {
+    let ra = DMat3::from_quat(pa.1);
+    let rb = DMat3::from_quat(pb.1);
+    let axes_a = [ra.x_axis, ra.y_axis, ra.z_axis];
+    let axes_b = [rb.x_axis, rb.y_axis, rb.z_axis];
+    let mut axes: Vec<DVec3> = axes_a.iter().chain(&axes_b).copied().collect();
+    for u in axes_a {
+        for v in axes_b {
+            let c = u.cross(v);
+            if c.length() > 1e-6 {
+                axes.push(c.normalize());
+            }
+        }
+    }
+    let radius = |axes: [DVec3; 3], h: DVec3, n: DVec3| {
+        h.x * axes[0].dot(n).abs() + h.y * axes[1].dot(n).abs() + h.z * axes[2].dot(n).abs()
+    };
+    axes.iter()
+        .map(|&n| (pb.0 - pa.0).dot(n).abs() - radius(axes_a, ha, n) - radius(axes_b, hb, n))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    #[test]
+    fn distance_matches_reference(sa in spec(), sb in spec(), pa in pose(), pb in pose()) {
+        let (shape_a, shape_b) = (sa.shape(), sb.shape());
+        let (a, b) = (posed(&shape_a, pa), posed(&shape_b, pb));
+        let result = gjk_distance(&a, &b);
+        prop_assert!(result.distance.is_finite() && result.point_a.is_finite() && result.point_b.is_finite());
+        prop_assert!(result.iterations <= GJK_MAX_ITERATIONS);
+        let scale = sa.size().max(sb.size());
+        // Exact for polytopes, spheres and capsules; cylinders are bracketed by an inscribed
+        // prism (farther) and a circumscribed one (nearer).
+        let place = |(f, m): (Features, f64), p| ((transform(&f.0, p), f.1, f.2), m);
+        let reference = |circumscribed| {
+            let (x, ma) = place(sa.core(circumscribed), pa);
+            let (y, mb) = place(sb.core(circumscribed), pb);
+            (core_reference(&x, &y) - ma - mb).max(0.0)
+        };
+        if !result.intersecting {
+            let (lower, upper) = (reference(true), reference(false));
+            let tolerance = 1e-9 * scale;
+            prop_assert!(lower - tolerance <= result.distance && result.distance <= upper + tolerance,
+                "gjk {} not in [{lower}, {upper}]", result.distance);
+        } else {
+            // Touching or overlapping: no plane separates them.
+            prop_assert!(support_reference(&a, &b) <= 1e-9 * scale);
+        }
+        if !result.intersecting {
+            // The witnesses are on the surfaces and as far apart as the distance.
+            prop_assert!((result.point_a.distance(result.point_b) - result.distance).abs() <= 1e-9 * scale);
+            let n = result.normal;
+            prop_assert!((n.dot(a.support(n)) - n.dot(result.point_a)).abs() <= 1e-9 * scale);
+            prop_assert!((n.dot(b.support(-n)) - n.dot(result.point_b)).abs() <= 1e-9 * scale);
+        }
+    }
+
+    #[test]
+    fn distance_is_symmetric(sa in spec(), sb in spec(), pa in pose(), pb in pose()) {
+        let (shape_a, shape_b) = (sa.shape(), sb.shape());
+        let (a, b) = (posed(&shape_a, pa), posed(&shape_b, pb));
+        let ab = gjk_distance(&a, &b);
+        let ba = gjk_distance(&b, &a);
+        let scale = sa.size().max(sb.size());
+        prop_assert!((ab.distance - ba.distance).abs() <= 1e-9 * scale);
+        if ab.distance > 1e-6 * scale {
+            prop_assert!(ab.point_a.distance(ba.point_b) <= 1e-6 * scale);
+            prop_assert!(ab.normal.dot(ba.normal) < -0.999_999);
+        }
+    }
+
+    #[test]
+    fn intersection_agrees_with_sat_for_boxes(
+        ha in extents(), hb in extents(), pa in pose(), pb in pose(),
+    ) {
+        let (shape_a, shape_b) = (Shape::cuboid(ha), Shape::cuboid(hb));
+        let sat = box_sat(ha, pa, hb, pb);
+        prop_assume!(sat.abs() > 1e-9);
+        let gjk = gjk_intersects(&posed(&shape_a, pa), &posed(&shape_b, pb));
+        prop_assert_eq!(gjk, sat < 0.0, "sat separation {}", sat);
+    }
+
+    #[test]
+    fn epa_depth_and_normal_separate(sa in spec(), sb in spec(), pa in pose(), pb in pose()) {
+        let (shape_a, shape_b) = (sa.shape(), sb.shape());
+        let (a, b) = (posed(&shape_a, pa), posed(&shape_b, pb));
+        let Some(p) = penetration(&a, &b) else { return Ok(()); };
+        prop_assert!(p.depth.is_finite() && p.normal.is_finite());
+        prop_assert!((p.normal.length() - 1.0).abs() < 1e-9);
+        let epsilon = 1e-5 * sa.size().max(sb.size());
+        let pushed = b.translated(p.normal * (p.depth + epsilon));
+        prop_assert!(!gjk_intersects(&a, &pushed), "depth {} normal {}", p.depth, p.normal);
+        if p.depth > epsilon {
+            let short = b.translated(p.normal * (p.depth - epsilon));
+            prop_assert!(gjk_intersects(&a, &short), "depth {} normal {}", p.depth, p.normal);
+        }
+    }
+}
+
+#[test]
+fn touching_boxes_have_zero_distance() {
+    let shape = Shape::cuboid(DVec3::splat(0.5));
+    let a = PosedShape::new(&shape, DVec3::ZERO, DMat3::IDENTITY);
+    let b = PosedShape::new(&shape, DVec3::new(0.3, 1.0, 0.2), DMat3::IDENTITY);
+    let result = gjk_distance(&a, &b);
+    assert!(result.distance.abs() < 1e-12);
+    assert!(result.intersecting);
+    let p = penetration(&a, &b).unwrap();
+    assert!(p.depth < 1e-9, "depth {}", p.depth);
+}
+
+#[test]
+fn deep_penetration_of_concentric_spheres() {
+    let (big, small) = (Shape::sphere(1.0), Shape::sphere(0.25));
+    let a = PosedShape::new(&big, DVec3::ZERO, DMat3::IDENTITY);
+    let b = PosedShape::new(&small, DVec3::ZERO, DMat3::IDENTITY);
+    let p = penetration(&a, &b).unwrap();
+    assert!((p.depth - 1.25).abs() < 1e-6, "depth {}", p.depth);
+    // Slightly off centre the normal follows the offset.
+    let b = b.translated(DVec3::new(0.0, 0.0, 0.1));
+    let p = penetration(&a, &b).unwrap();
+    assert!((p.depth - 1.15).abs() < 1e-12);
+    assert!(p.normal.distance(DVec3::Z) < 1e-12);
+}
+
+#[test]
+fn size_ratio_one_to_a_thousand() {
+    let (big, small) = (
+        Shape::cuboid(DVec3::new(50.0, 10.0, 50.0)),
+        Shape::sphere(0.01),
+    );
+    let ground = PosedShape::new(&big, DVec3::new(0.0, -10.0, 0.0), DMat3::IDENTITY);
+    for gap in [1e-6, 1e-3, 0.5] {
+        let ball = PosedShape::new(&small, DVec3::new(3.0, 0.01 + gap, -7.0), DMat3::IDENTITY);
+        let result = gjk_distance(&ground, &ball);
+        assert!(
+            (result.distance - gap).abs() < 1e-12,
+            "gap {gap}: {}",
+            result.distance
+        );
+        assert!(result.normal.distance(DVec3::Y) < 1e-12);
+    }
+    // A small box half sunk into the big one, tilted.
+    let tiny = Shape::cuboid(DVec3::splat(0.01));
+    let rotation = DMat3::from_quat(DQuat::from_rotation_z(0.3));
+    let sunk = PosedShape::new(&tiny, DVec3::new(1.0, 0.0, 2.0), rotation);
+    let p = penetration(&ground, &sunk).unwrap();
+    let expected = 0.01 * (0.3f64.cos() + 0.3f64.sin());
+    assert!(
+        (p.depth - expected).abs() < 1e-9,
+        "depth {} expected {expected}",
+        p.depth
+    );
+    assert!(p.normal.distance(DVec3::Y) < 1e-9);
+}
