@@ -8,8 +8,16 @@ use rigid::physics::{BodyDesc, BodyId, EnvironmentForce, Integrator, Shape, Worl
 
 const G: f64 = 9.81;
 
+/// The world integrates each step in this many substeps of dt / SUBSTEPS.
+fn substeps() -> usize {
+    rigid::physics::soft_solver::SoftSolverSettings::default().substeps as usize
+}
+
 fn world_with(integrator: Integrator, forces: Vec<EnvironmentForce>) -> World {
-    let mut world = World::new(WorldSettings { integrator });
+    let mut world = World::new(WorldSettings {
+        integrator,
+        ..Default::default()
+    });
     world.forces = forces;
     world
 }
@@ -48,15 +56,17 @@ fn free_fall_follows_the_discrete_closed_form_and_is_first_order() {
         );
         run(&mut world, h, n);
         let y = world.body(ball).position.y;
-        // Round-off over 60 steps of magnitude ~20 m stays far below 1e-9 m.
-        let discrete = semi_implicit_position(20.0, 0.0, -G, h, n);
+        // The world integrates n steps as n·s substeps of h/s. Round-off over 240 substeps
+        // of magnitude ~20 m stays far below 1e-9 m.
+        let (s, substep) = (substeps(), h / substeps() as f64);
+        let discrete = semi_implicit_position(20.0, 0.0, -G, substep, n * s);
         assert!(
             (y - discrete).abs() < 1e-9,
             "{integrator:?}: y = {y}, expected {discrete}"
         );
-        // Against the exact path 20 − g t²/2 the error is g t h / 2 (t = 1 s): 0.08175 m.
+        // Against the exact path 20 − g t²/2 the error is g t (h/s) / 2 (t = 1 s).
         let analytic = 20.0 - 0.5 * G;
-        let expected_error = G * 1.0 * h / 2.0;
+        let expected_error = G * 1.0 * substep / 2.0;
         assert!(((analytic - y) - expected_error).abs() < 1e-9);
         // Velocity is exact for a constant force.
         assert!((world.body(ball).velocity().y + G).abs() < 1e-12);
@@ -96,8 +106,9 @@ fn projectile_matches_the_analytic_path_to_first_order() {
     let t = n as f64 * h;
     // Horizontal motion has no force: exact to round-off.
     assert!((p.x - v0.x * t).abs() < 1e-12 && (p.z - v0.z * t).abs() < 1e-12);
-    // Vertical: analytic v0 t − g t²/2, with the scheme's known error g t h / 2.
+    // Vertical: analytic v0 t − g t²/2, with the scheme's known error g t (h/s) / 2.
     let analytic = v0.y * t - 0.5 * G * t * t;
+    let h = h / substeps() as f64;
     assert!(
         (p.y - (analytic - G * t * h / 2.0)).abs() < 1e-9,
         "y = {}",

@@ -22,7 +22,10 @@ const REPEATS: usize = 5;
 pub fn free_fall(integrator: Integrator, dt: f64) -> Measurement {
     let steps = (1.0 / dt).round() as usize;
     let (error, seconds) = median_time(REPEATS, || {
-        let mut world = World::new(WorldSettings { integrator });
+        let mut world = World::new(WorldSettings {
+            integrator,
+            ..Default::default()
+        });
         world.forces.push(EnvironmentForce::earth_gravity());
         let ball = world
             .add_body(BodyDesc::dynamic(Shape::sphere(0.1)).at(DVec3::Y * 10.0))
@@ -48,7 +51,10 @@ pub fn intermediate_axis_spin(integrator: Integrator, dt: f64) -> Measurement {
     const SECONDS: f64 = 20.0;
     let steps = (SECONDS / dt).round() as usize;
     let (error, seconds) = median_time(REPEATS, || {
-        let mut world = World::new(WorldSettings { integrator });
+        let mut world = World::new(WorldSettings {
+            integrator,
+            ..Default::default()
+        });
         let block = world
             .add_body(
                 BodyDesc::dynamic(Shape::cuboid(DVec3::new(0.1, 0.3, 0.6)))

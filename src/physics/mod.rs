@@ -1,12 +1,14 @@
 //! The engine. Nothing here knows about windows, GPUs or user interfaces.
 //!
-//! Reading order of a step: `forces` → `integrate` → diagnostics (see `World::step`).
+//! Reading order of a step (see `World::step`): broad phase → narrow phase → solve (forces,
+//! integration and contacts, in substeps) → diagnostics.
 
 pub mod aabb;
 pub mod body;
 pub mod broad_phase;
 pub mod compound;
 pub mod contact;
+pub mod contact_cache;
 pub mod epa;
 pub mod forces;
 pub mod gjk;
@@ -14,6 +16,7 @@ pub mod hull;
 pub mod integrate;
 pub mod manifold;
 pub mod mass;
+pub mod narrow_phase;
 pub mod shape;
 pub mod soft_solver;
 pub mod world;

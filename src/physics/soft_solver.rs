@@ -65,8 +65,11 @@ pub struct SoftSolverSettings {
 impl Default for SoftSolverSettings {
     fn default() -> Self {
         SoftSolverSettings {
-            substeps: 4,
-            contact_hertz: 30.0,
+            // A loaded contact settles by (load / effective mass)·g/ω²: 60 Hz keeps a stack of
+            // ten boxes within 7 mm, and needs 8 substeps to stay under a quarter of the
+            // substep rate at dt = 1/60 (stiffer than that rings).
+            substeps: 8,
+            contact_hertz: 60.0,
             damping_ratio: 10.0,
             max_push_out: 3.0,
             restitution_threshold: 1.0,
@@ -149,11 +152,18 @@ pub fn step(
     let h = ctx.dt / substeps as f64;
     let hertz = ctx.settings.contact_hertz.min(0.25 / h);
     let softness = Softness::new(hertz, ctx.settings.damping_ratio, h);
+    // Forces the user applied before the step act over all of it, like the environment's.
+    let user_forces: Vec<(DVec3, DVec3)> = bodies.iter().map(|b| (b.force, b.torque)).collect();
     for _ in 0..substeps {
-        for body in bodies.iter_mut() {
+        let dynamic = bodies
+            .iter_mut()
+            .zip(&user_forces)
+            .filter(|(b, _)| b.is_dynamic());
+        for (body, &(force, torque)) in dynamic {
+            body.force = force;
+            body.torque = torque;
             forces::apply_environment(ctx.forces, body);
             integrate::integrate_momenta(body, h);
-            body.clear_accumulators();
         }
         warm_start(bodies, &constraints);
         solve(
@@ -168,6 +178,7 @@ pub fn step(
         solve(bodies, &mut constraints, h, None);
     }
     apply_restitution(bodies, &mut constraints, ctx.settings.restitution_threshold);
+    bodies.iter_mut().for_each(RigidBody::clear_accumulators);
     constraints.iter().map(|c| c.impulse).collect()
 }
 

@@ -1,6 +1,9 @@
 //! The world: bodies, environmental forces and settings, advanced by `step(dt)`.
 //!
-//! A step reads as its stages: forces → integrate → diagnostics (non-finite bodies isolated).
+//! A step reads as its stages: broad phase → narrow phase → solve (forces, integration and
+//! contacts, in substeps) → diagnostics (non-finite bodies isolated). A negative dt runs the
+//! bodies backwards without contacts (forces and integration only), as the report's rewind
+//! needs.
 //!
 //! ```
 //! use glam::DVec3;
@@ -19,24 +22,68 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::physics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
+use crate::physics::broad_phase::{BodyPair, BroadPhase, BroadPhaseKind};
+use crate::physics::contact::ContactManifold;
+use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::integrate::{self, Integrator};
+use crate::physics::narrow_phase;
+use crate::physics::soft_solver::{self, SoftSolverSettings, StepContext};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct WorldSettings {
     pub integrator: Integrator,
+    pub broad_phase: BroadPhaseKind,
+    pub solver: SoftSolverSettings,
 }
 
 #[derive(Clone, Debug, Default)]
 pub struct World {
     bodies: Vec<RigidBody>,
+    broad_phase: BroadPhaseState,
+    manifolds: Vec<ContactManifold>,
+    contact_cache: ContactCache,
     /// Environmental forces, applied to every dynamic body each step. Edit freely.
     pub forces: Vec<EnvironmentForce>,
     pub settings: WorldSettings,
     time: f64,
     steps: u64,
     faults: Vec<Fault>,
+}
+
+/// The broad phase in use, rebuilt when the settings name another kind. Its state is only a
+/// cache for incremental updates, so a cloned world starts a fresh one.
+struct BroadPhaseState {
+    kind: BroadPhaseKind,
+    implementation: Box<dyn BroadPhase + Send>,
+}
+
+impl BroadPhaseState {
+    fn new(kind: BroadPhaseKind) -> Self {
+        BroadPhaseState {
+            kind,
+            implementation: kind.create(),
+        }
+    }
+}
+
+impl Default for BroadPhaseState {
+    fn default() -> Self {
+        BroadPhaseState::new(BroadPhaseKind::default())
+    }
+}
+
+impl Clone for BroadPhaseState {
+    fn clone(&self) -> Self {
+        BroadPhaseState::new(self.kind)
+    }
+}
+
+impl std::fmt::Debug for BroadPhaseState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "BroadPhaseState({:?})", self.kind)
+    }
 }
 
 /// A body whose state stopped being finite, and when. The body is isolated the same step.
@@ -62,6 +109,7 @@ impl World {
     pub fn new(settings: WorldSettings) -> Self {
         World {
             settings,
+            broad_phase: BroadPhaseState::new(settings.broad_phase),
             ..World::default()
         }
     }
@@ -101,11 +149,45 @@ impl World {
 
     /// Advances the world by `dt` seconds; a negative `dt` runs it backwards.
     pub fn step(&mut self, dt: f64) {
-        self.apply_forces();
-        self.integrate(dt);
+        // A non-finite user force or state is caught before any contact can spread it.
+        self.isolate_non_finite();
+        if dt >= 0.0 {
+            let pairs = self.broad_phase(dt);
+            self.manifolds = narrow_phase::find_manifolds(&self.bodies, &pairs, dt);
+            self.solve(dt);
+        } else {
+            self.manifolds.clear();
+            self.run_backwards(dt);
+        }
         self.isolate_non_finite();
         self.time += dt;
         self.steps += 1;
+    }
+
+    /// The contact manifolds found in the last step.
+    pub fn contacts(&self) -> &[ContactManifold] {
+        &self.manifolds
+    }
+
+    fn broad_phase(&mut self, dt: f64) -> Vec<BodyPair> {
+        if self.broad_phase.kind != self.settings.broad_phase {
+            self.broad_phase = BroadPhaseState::new(self.settings.broad_phase);
+        }
+        let proxies = narrow_phase::proxies(&self.bodies, dt);
+        self.broad_phase.implementation.find_pairs(&proxies)
+    }
+
+    /// Forces, integration and contacts together, in substeps (see `soft_solver`).
+    fn solve(&mut self, dt: f64) {
+        let inputs = self.contact_cache.solver_inputs(&self.manifolds);
+        let ctx = StepContext {
+            forces: &self.forces,
+            integrator: self.settings.integrator,
+            settings: &self.settings.solver,
+            dt,
+        };
+        let impulses = soft_solver::step(&mut self.bodies, &inputs, &ctx);
+        self.contact_cache.store(&self.manifolds, &impulses);
     }
 
     /// Bodies isolated so far because their state went non-finite (NaN or infinity).
@@ -113,15 +195,19 @@ impl World {
         &self.faults
     }
 
-    fn apply_forces(&mut self) {
-        for body in &mut self.bodies {
-            forces::apply_environment(&self.forces, body);
-        }
-    }
-
-    fn integrate(&mut self, dt: f64) {
-        for body in &mut self.bodies {
-            integrate::integrate_body(body, dt, self.settings.integrator);
+    /// The forward substeps undone in reverse order: without contacts and with forces that do
+    /// not depend on position, this retraces the forward motion exactly.
+    fn run_backwards(&mut self, dt: f64) {
+        let substeps = self.settings.solver.substeps.max(1);
+        let h = dt / substeps as f64;
+        for body in self.bodies.iter_mut().filter(|b| b.is_dynamic()) {
+            let (force, torque) = (body.force, body.torque);
+            for _ in 0..substeps {
+                body.force = force;
+                body.torque = torque;
+                forces::apply_environment(&self.forces, body);
+                integrate::integrate_body(body, h, self.settings.integrator);
+            }
             body.clear_accumulators();
         }
     }
@@ -130,7 +216,8 @@ impl World {
     /// else can read it, so NaN never spreads to other bodies or to the world totals.
     fn isolate_non_finite(&mut self) {
         for (index, body) in self.bodies.iter_mut().enumerate() {
-            if body.motion != Motion::Isolated && !body.is_finite() {
+            let finite = body.is_finite() && body.force.is_finite() && body.torque.is_finite();
+            if body.motion != Motion::Isolated && !finite {
                 body.motion = Motion::Isolated;
                 self.faults.push(Fault {
                     body: BodyId(index as u32),

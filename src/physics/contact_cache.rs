@@ -1,0 +1,57 @@
+//! Warm starting: the impulses each contact ended the last step with, found again this step
+//! by (body pair, feature pair), so that the solver starts from last step's answer.
+
+use crate::physics::body::BodyId;
+use crate::physics::contact::{ContactManifold, FeatureId};
+use crate::physics::soft_solver::{ContactInput, WarmImpulse};
+
+type Key = (BodyId, BodyId, FeatureId);
+
+/// Sorted by key, so lookups are binary searches and iteration order is deterministic.
+#[derive(Clone, Debug, Default)]
+pub struct ContactCache {
+    entries: Vec<(Key, WarmImpulse)>,
+}
+
+impl ContactCache {
+    fn lookup(&self, key: &Key) -> WarmImpulse {
+        self.entries
+            .binary_search_by(|(k, _)| k.cmp(key))
+            .map(|index| self.entries[index].1)
+            .unwrap_or_default()
+    }
+
+    /// The solver's view of this step's contacts, warm-started from the cache.
+    pub fn solver_inputs(&self, manifolds: &[ContactManifold]) -> Vec<ContactInput> {
+        manifolds
+            .iter()
+            .flat_map(|m| m.contacts.iter().map(move |c| (m, c)))
+            .map(|(m, c)| ContactInput {
+                a: m.body_a.index(),
+                b: m.body_b.index(),
+                point: c.position,
+                normal: c.normal,
+                separation: c.separation,
+                key: (u64::from(c.feature.on_a) << 32) | u64::from(c.feature.on_b),
+                warm_impulse: self.lookup(&(m.body_a, m.body_b, c.feature)),
+            })
+            .collect()
+    }
+
+    /// Remembers the impulses the solver returned, in the order of `solver_inputs`.
+    pub fn store(&mut self, manifolds: &[ContactManifold], impulses: &[WarmImpulse]) {
+        self.entries.clear();
+        let keys = manifolds.iter().flat_map(|m| {
+            m.contacts
+                .iter()
+                .map(move |c| (m.body_a, m.body_b, c.feature))
+        });
+        self.entries.extend(keys.zip(impulses.iter().copied()));
+        self.entries.sort_by(|x, y| x.0.cmp(&y.0));
+        self.entries.dedup_by(|x, y| x.0 == y.0);
+    }
+
+    pub fn clear(&mut self) {
+        self.entries.clear();
+    }
+}

@@ -1,0 +1,63 @@
+//! Narrow phase: contact manifolds for the pairs the broad phase reported.
+//!
+//! Contacts are generated while bodies are still apart (speculative contacts) whenever their
+//! surfaces could meet within the step: the margin of a pair is a small fixed distance plus
+//! how far each body's surface can move in dt. The solver then lets such a gap close and no
+//! more, which is what keeps fast bodies from tunnelling.
+
+use glam::DVec3;
+
+use crate::physics::aabb::Aabb;
+use crate::physics::body::{BodyId, Motion, RigidBody};
+use crate::physics::broad_phase::{BodyPair, Proxy};
+use crate::physics::contact::ContactManifold;
+use crate::physics::manifold::contact_manifold;
+
+/// Contacts closer than this are always kept, m: enough for resting contacts to persist.
+pub const SPECULATIVE_DISTANCE: f64 = 0.02;
+
+/// An upper bound on how far any surface point of `body` moves in `dt`: |v| dt + |ω| r dt.
+pub fn motion_bound(body: &RigidBody, dt: f64) -> f64 {
+    if !body.is_dynamic() {
+        return 0.0;
+    }
+    let reach = body.shape.bounding_radius() + body.local_center.length();
+    (body.velocity().length() + body.angular_velocity().length() * reach) * dt.abs()
+}
+
+/// Broad-phase proxies: each body's box grown by half the fixed margin and by its motion
+/// bound. Isolated bodies get an empty box so that they meet nothing.
+pub fn proxies(bodies: &[RigidBody], dt: f64) -> Vec<Proxy> {
+    bodies
+        .iter()
+        .map(|body| match body.motion {
+            Motion::Isolated => Proxy {
+                aabb: Aabb::new(DVec3::INFINITY, DVec3::NEG_INFINITY),
+                active: false,
+            },
+            _ => Proxy::of_body(body, 0.5 * SPECULATIVE_DISTANCE + motion_bound(body, dt)),
+        })
+        .collect()
+}
+
+/// The manifolds of all candidate pairs whose surfaces are, or may come, within reach.
+pub fn find_manifolds(bodies: &[RigidBody], pairs: &[BodyPair], dt: f64) -> Vec<ContactManifold> {
+    pairs
+        .iter()
+        .filter_map(|pair| manifold_of_pair(bodies, pair, dt))
+        .collect()
+}
+
+fn manifold_of_pair(bodies: &[RigidBody], pair: &BodyPair, dt: f64) -> Option<ContactManifold> {
+    let (a, b) = (&bodies[pair.a.index()], &bodies[pair.b.index()]);
+    if !a.is_dynamic() && !b.is_dynamic() {
+        return None;
+    }
+    let margin = SPECULATIVE_DISTANCE + motion_bound(a, dt) + motion_bound(b, dt);
+    contact_manifold(a, pair.a, b, pair.b, margin)
+}
+
+/// True when the manifold involves `body`.
+pub fn touches(manifold: &ContactManifold, body: BodyId) -> bool {
+    manifold.body_a == body || manifold.body_b == body
+}
