@@ -47,7 +47,7 @@ impl ContactCache {
                 .map(move |c| (m.body_a, m.body_b, c.feature))
         });
         self.entries.extend(keys.zip(impulses.iter().copied()));
-        self.entries.sort_by(|x, y| x.0.cmp(&y.0));
+        self.entries.sort_by_key(|entry| entry.0);
         self.entries.dedup_by(|x, y| x.0 == y.0);
     }
 
