@@ -2,3 +2,4 @@
 //! "Simulation physique de corps rigides avec interaction", with an interactive viewer.
 
 pub mod physics;
+pub mod scene;

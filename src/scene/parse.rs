@@ -1,0 +1,142 @@
+//! RON text → `Scene`, turning serde's errors into ones that say which body and field.
+
+use serde::Deserialize;
+use serde_path_to_error::{Path, Segment};
+
+use crate::scene::error::{SceneError, body_label};
+use crate::scene::file::Scene;
+
+/// `mass: 2.0` instead of `mass: Some(2.0)`, `repeat: Grid(…)` instead of `Some(Grid(…))`.
+fn options() -> ron::Options {
+    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+}
+
+/// Parses and fully validates a scene. `origin` names the text in error messages (a path).
+pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
+    let mut scene = deserialize(text, origin)?;
+    scene.origin = origin.to_owned();
+    // Building every body description is the validation: the same code builds the world.
+    scene.body_descs()?;
+    Ok(scene)
+}
+
+fn deserialize(text: &str, origin: &str) -> Result<Scene, SceneError> {
+    let mut deserializer = ron::Deserializer::from_str_with_options(text, &options())
+        .map_err(|error| syntax_error(origin, &error, None))?;
+    let scene: Scene = serde_path_to_error::deserialize(&mut deserializer).map_err(|error| {
+        let spanned = deserializer.span_error(error.inner().clone());
+        syntax_error(origin, &spanned, Some((text, error.path())))
+    })?;
+    deserializer
+        .end()
+        .map_err(|error| syntax_error(origin, &deserializer.span_error(error), None))?;
+    Ok(scene)
+}
+
+fn syntax_error(
+    origin: &str,
+    error: &ron::error::SpannedError,
+    path: Option<(&str, &Path)>,
+) -> SceneError {
+    let mut located = Located::default();
+    if let Some((text, path)) = path {
+        located = locate(text, path);
+    }
+    let mut message = error.code.to_string();
+    // Name an unknown or missing field in the field slot, where a reader looks for it.
+    match &error.code {
+        ron::Error::NoSuchStructField { found, .. } => {
+            located.push_field(found);
+            message = message.replacen(
+                &format!("Unexpected field named `{found}`"),
+                "unknown field",
+                1,
+            );
+        }
+        ron::Error::MissingStructField { field, .. } => {
+            located.push_field(field);
+            message = "missing".to_owned();
+        }
+        _ => {}
+    }
+    SceneError::Format {
+        file: origin.to_owned(),
+        line: error.span.start.line,
+        column: error.span.start.col,
+        body: located.body,
+        field: located.field,
+        message,
+    }
+}
+
+#[derive(Default)]
+struct Located {
+    body: Option<String>,
+    field: Option<String>,
+}
+
+impl Located {
+    fn push_field(&mut self, name: &str) {
+        self.field = Some(match self.field.take() {
+            Some(prefix) => format!("{prefix}.{name}"),
+            None => name.to_owned(),
+        });
+    }
+}
+
+/// Splits a serde path such as `bodies[3].shape.Cuboid.half_extents[0]` into the body
+/// (`#3`, or its name) and the field (`shape.half_extents[0]`; enum variant names dropped).
+fn locate(text: &str, path: &Path) -> Located {
+    let segments: Vec<&Segment> = path.iter().collect();
+    let (body, rest) = match segments.as_slice() {
+        [Segment::Map { key }, Segment::Seq { index }, rest @ ..] if key == "bodies" => {
+            (Some(body_name(text, *index)), rest)
+        }
+        _ => (None, segments.as_slice()),
+    };
+    let field = render_field(rest);
+    Located {
+        body,
+        field: (!field.is_empty()).then_some(field),
+    }
+}
+
+fn render_field(segments: &[&Segment]) -> String {
+    let mut field = String::new();
+    for segment in segments {
+        match segment {
+            Segment::Map { key } => {
+                if !field.is_empty() {
+                    field.push('.');
+                }
+                field.push_str(key);
+            }
+            Segment::Seq { index } => field.push_str(&format!("[{index}]")),
+            Segment::Enum { .. } | Segment::Unknown => {}
+        }
+    }
+    field
+}
+
+/// The body's label for an error at `bodies[index]`: its name when a lenient second reading
+/// of the file (which ignores everything but the names) can find it, else its index.
+fn body_name(text: &str, index: usize) -> String {
+    #[derive(Deserialize)]
+    #[serde(rename = "Scene")]
+    struct Names {
+        #[serde(default)]
+        bodies: Vec<Name>,
+    }
+    #[derive(Deserialize)]
+    struct Name {
+        #[serde(default)]
+        name: String,
+    }
+    let name = options()
+        .from_str::<Names>(text)
+        .ok()
+        .and_then(|names| names.bodies.into_iter().nth(index))
+        .map(|body| body.name)
+        .unwrap_or_default();
+    body_label(&name, index)
+}
