@@ -48,7 +48,7 @@ impl Scene {
         self.bodies
             .iter()
             .map(|body| expand::count(body.repeat.as_ref()))
-            .sum()
+            .fold(0, u64::saturating_add)
     }
 
     /// One body as written, before its generator: every field checked and converted.

@@ -7,11 +7,13 @@ use crate::scene::file::Repeat;
 use crate::scene::validate;
 
 /// How many bodies a template makes, without building them (used against `MAX_BODIES`
-/// before any memory is spent). u64: three u32 counts cannot overflow it.
+/// before any memory is spent). Saturating: three u32 counts can overflow even u64.
 pub fn count(repeat: Option<&Repeat>) -> u64 {
     match repeat {
         None => 1,
-        Some(Repeat::Grid { count, .. }) => count.0 as u64 * count.1 as u64 * count.2 as u64,
+        Some(Repeat::Grid { count, .. }) => {
+            (count.0 as u64 * count.1 as u64).saturating_mul(count.2 as u64)
+        }
         Some(Repeat::Pyramid { layers, .. }) => {
             let layers = *layers as u64;
             layers * (layers + 1) / 2

@@ -43,18 +43,16 @@ fn syntax_error(
         located = locate(text, path);
     }
     let mut message = error.code.to_string();
-    // Name an unknown or missing field in the field slot, where a reader looks for it.
+    // Name an unknown or missing field in the field slot, where a reader looks for it, and drop
+    // RON's "in `Struct`", which names Rust types rather than anything in the file.
     match &error.code {
         ron::Error::NoSuchStructField { found, .. } => {
-            located.push_field(found);
-            message = message.replacen(
-                &format!("Unexpected field named `{found}`"),
-                "unknown field",
-                1,
-            );
+            located.end_with_field(found);
+            let expected = message.split_once(", ").map_or("", |(_, rest)| rest);
+            message = format!("unknown field, {expected}");
         }
         ron::Error::MissingStructField { field, .. } => {
-            located.push_field(field);
+            located.end_with_field(field);
             message = "missing".to_owned();
         }
         _ => {}
@@ -76,8 +74,11 @@ struct Located {
 }
 
 impl Located {
-    fn push_field(&mut self, name: &str) {
+    /// Appends `name` to the field path unless the path already ends with it (serde's path
+    /// includes an unknown key, but not a missing one).
+    fn end_with_field(&mut self, name: &str) {
         self.field = Some(match self.field.take() {
+            Some(path) if path == name || path.ends_with(&format!(".{name}")) => path,
             Some(prefix) => format!("{prefix}.{name}"),
             None => name.to_owned(),
         });

@@ -9,7 +9,6 @@ use glam::DVec3;
 use crate::physics::Material;
 use crate::physics::shape::{MAX_EXTENT, MIN_EXTENT};
 use crate::scene::error::{FieldError, SceneError};
-use crate::scene::expand;
 use crate::scene::file::{Camera, ForceSpec, Scene};
 
 /// Most bodies a scene may create, generators included: beyond this a scene is almost
@@ -76,11 +75,7 @@ pub fn check_material(material: &Material) -> Result<(), FieldError> {
 }
 
 fn check_body_count(scene: &Scene) -> Result<(), SceneError> {
-    let count: u64 = scene
-        .bodies
-        .iter()
-        .map(|body| expand::count(body.repeat.as_ref()))
-        .sum();
+    let count = scene.body_count();
     if count > MAX_BODIES as u64 {
         return Err(SceneError::TooManyBodies {
             file: scene.origin.clone(),
