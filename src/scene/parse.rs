@@ -102,9 +102,24 @@ fn locate(text: &str, path: &Path) -> Located {
     }
 }
 
+/// Fields that hold a `DVec3`, written `(x, y, z)`: their elements are named `.x`, `.y`, `.z`.
+const VECTOR_FIELDS: &[&str] = &[
+    "position",
+    "velocity",
+    "angular_velocity",
+    "half_extents",
+    "spacing",
+    "stagger",
+    "eye",
+    "target",
+    "acceleration",
+    "axis",
+];
+
 fn render_field(segments: &[&Segment]) -> String {
     let mut field = String::new();
-    for segment in segments {
+    for (at, segment) in segments.iter().enumerate() {
+        let previous = at.checked_sub(1).map(|i| segments[i]);
         match segment {
             Segment::Map { key } => {
                 if !field.is_empty() {
@@ -112,11 +127,26 @@ fn render_field(segments: &[&Segment]) -> String {
                 }
                 field.push_str(key);
             }
+            Segment::Seq { index } if *index < 3 && in_vector(previous, at, segments) => {
+                field.push_str([".x", ".y", ".z"][*index]);
+            }
             Segment::Seq { index } => field.push_str(&format!("[{index}]")),
             Segment::Enum { .. } | Segment::Unknown => {}
         }
     }
     field
+}
+
+/// Whether the element at `segments[at]` is a component of a vector: directly under a vector
+/// field, or a point of a hull (`points[i]`).
+fn in_vector(previous: Option<&Segment>, at: usize, segments: &[&Segment]) -> bool {
+    match previous {
+        Some(Segment::Map { key }) => VECTOR_FIELDS.contains(&key.as_str()),
+        Some(Segment::Seq { .. }) => {
+            matches!(at.checked_sub(2).map(|i| segments[i]), Some(Segment::Map { key }) if key == "points")
+        }
+        _ => false,
+    }
 }
 
 /// The body's label for an error at `bodies[index]`: its name when a lenient second reading
