@@ -67,7 +67,7 @@ fn describe(body: &Option<String>, field: &Option<String>) -> String {
 }
 
 /// How an error names a body: `'crate_3'`, or `#3` when the body has no name.
-pub fn body_label(name: &str, index: usize) -> String {
+pub(crate) fn body_label(name: &str, index: usize) -> String {
     if name.is_empty() {
         format!("#{index}")
     } else {
@@ -78,7 +78,7 @@ pub fn body_label(name: &str, index: usize) -> String {
 /// A bad value found while checking one body or material, before the file and body are known
 /// to the checking function; the caller adds them.
 #[derive(Debug, Clone, PartialEq)]
-pub struct FieldError {
+pub(crate) struct FieldError {
     pub field: String,
     pub message: String,
 }

@@ -8,7 +8,7 @@ use crate::scene::validate;
 
 /// How many bodies a template makes, without building them (used against `MAX_BODIES`
 /// before any memory is spent). Saturating: three u32 counts can overflow even u64.
-pub fn count(repeat: Option<&Repeat>) -> u64 {
+pub(crate) fn count(repeat: Option<&Repeat>) -> u64 {
     match repeat {
         None => 1,
         Some(Repeat::Grid { count, .. }) => {
@@ -21,7 +21,7 @@ pub fn count(repeat: Option<&Repeat>) -> u64 {
     }
 }
 
-pub fn check(repeat: &Repeat) -> Result<(), FieldError> {
+pub(crate) fn check(repeat: &Repeat) -> Result<(), FieldError> {
     match *repeat {
         Repeat::Grid {
             count,
@@ -51,7 +51,7 @@ pub fn check(repeat: &Repeat) -> Result<(), FieldError> {
 
 /// Offsets from the template's position, in generation order. A body without `repeat` is a
 /// single copy at offset zero; its name is then left as written.
-pub fn offsets(repeat: Option<&Repeat>) -> Vec<DVec3> {
+pub(crate) fn offsets(repeat: Option<&Repeat>) -> Vec<DVec3> {
     match repeat {
         None => vec![DVec3::ZERO],
         Some(Repeat::Grid {

@@ -11,7 +11,7 @@ use crate::scene::error::FieldError;
 use crate::scene::file::{PartSpec, Rotation, ShapeSpec};
 use crate::scene::validate::{extent, finite, vector};
 
-pub fn build_shape(spec: &ShapeSpec) -> Result<Shape, FieldError> {
+pub(crate) fn build_shape(spec: &ShapeSpec) -> Result<Shape, FieldError> {
     match spec {
         ShapeSpec::Sphere { radius } => {
             extent("radius", *radius)?;
@@ -88,7 +88,7 @@ fn build_part(part: &PartSpec) -> Result<CompoundPart, FieldError> {
     })
 }
 
-pub fn build_rotation(rotation: &Rotation) -> Result<DQuat, FieldError> {
+pub(crate) fn build_rotation(rotation: &Rotation) -> Result<DQuat, FieldError> {
     match *rotation {
         Rotation::Euler(x, y, z) => {
             finite("x", x)?;

@@ -23,7 +23,7 @@ pub const DT_RANGE: RangeInclusive<f64> = 1e-6..=0.1;
 pub const MAX_FRICTION: f64 = 10.0;
 
 /// Everything about a scene that is not a body.
-pub fn check_scene(scene: &Scene) -> Result<(), SceneError> {
+pub(crate) fn check_scene(scene: &Scene) -> Result<(), SceneError> {
     let file = scene.origin.as_str();
     if scene.name.trim().is_empty() {
         return Err(FieldError::new("name", "must not be empty").in_scene(file));
@@ -68,7 +68,7 @@ fn check_force(force: &ForceSpec) -> Result<(), FieldError> {
 }
 
 /// Density, restitution and friction, for named and inline materials alike.
-pub fn check_material(material: &Material) -> Result<(), FieldError> {
+pub(crate) fn check_material(material: &Material) -> Result<(), FieldError> {
     positive("density", material.density)?;
     in_range("restitution", material.restitution, 0.0..=1.0)?;
     in_range("friction", material.friction, 0.0..=MAX_FRICTION)
@@ -86,7 +86,7 @@ fn check_body_count(scene: &Scene) -> Result<(), SceneError> {
     Ok(())
 }
 
-pub fn finite(field: &str, value: f64) -> Result<(), FieldError> {
+pub(crate) fn finite(field: &str, value: f64) -> Result<(), FieldError> {
     if value.is_finite() {
         Ok(())
     } else {
@@ -97,7 +97,7 @@ pub fn finite(field: &str, value: f64) -> Result<(), FieldError> {
     }
 }
 
-pub fn positive(field: &str, value: f64) -> Result<(), FieldError> {
+pub(crate) fn positive(field: &str, value: f64) -> Result<(), FieldError> {
     finite(field, value)?;
     if value > 0.0 {
         Ok(())
@@ -109,7 +109,7 @@ pub fn positive(field: &str, value: f64) -> Result<(), FieldError> {
     }
 }
 
-pub fn non_negative(field: &str, value: f64) -> Result<(), FieldError> {
+pub(crate) fn non_negative(field: &str, value: f64) -> Result<(), FieldError> {
     finite(field, value)?;
     if value >= 0.0 {
         Ok(())
@@ -121,7 +121,11 @@ pub fn non_negative(field: &str, value: f64) -> Result<(), FieldError> {
     }
 }
 
-pub fn in_range(field: &str, value: f64, range: RangeInclusive<f64>) -> Result<(), FieldError> {
+pub(crate) fn in_range(
+    field: &str,
+    value: f64,
+    range: RangeInclusive<f64>,
+) -> Result<(), FieldError> {
     finite(field, value)?;
     if range.contains(&value) {
         Ok(())
@@ -135,7 +139,7 @@ pub fn in_range(field: &str, value: f64, range: RangeInclusive<f64>) -> Result<(
 }
 
 /// A length of a shape: positive, and within the engine's [MIN_EXTENT, MAX_EXTENT] m.
-pub fn extent(field: &str, value: f64) -> Result<(), FieldError> {
+pub(crate) fn extent(field: &str, value: f64) -> Result<(), FieldError> {
     positive(field, value)?;
     if (MIN_EXTENT..=MAX_EXTENT).contains(&value) {
         Ok(())
@@ -148,7 +152,7 @@ pub fn extent(field: &str, value: f64) -> Result<(), FieldError> {
 }
 
 /// Each component finite, named `field.x`, `field.y`, `field.z`.
-pub fn vector(field: &str, value: DVec3) -> Result<(), FieldError> {
+pub(crate) fn vector(field: &str, value: DVec3) -> Result<(), FieldError> {
     finite(&format!("{field}.x"), value.x)?;
     finite(&format!("{field}.y"), value.y)?;
     finite(&format!("{field}.z"), value.z)
