@@ -230,6 +230,17 @@ fn unknown_shape_field_names_the_path() {
 }
 
 #[test]
+fn unknown_shape_kind_lists_the_known_ones() {
+    let message = body_error(r#"name: "ball", shape: Shpere(radius: 1.0)"#);
+    assert_names(&message, "'ball'", "shape");
+    assert!(
+        message.contains("unknown variant `Shpere`, expected one of `Sphere`"),
+        "{message}"
+    );
+    assert!(!message.contains("ShapeSpec"), "{message}");
+}
+
+#[test]
 fn unknown_field_in_unnamed_body_names_its_index() {
     let message = body_error(r#"shape: Sphere(radius: 1.0), spin: 3"#);
     assert_names(&message, "#1", "spin");

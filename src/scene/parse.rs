@@ -44,12 +44,16 @@ fn syntax_error(
     }
     let mut message = error.code.to_string();
     // Name an unknown or missing field in the field slot, where a reader looks for it, and drop
-    // RON's "in `Struct`", which names Rust types rather than anything in the file.
+    // RON's "in `Struct`" / "in enum `Enum`", which name Rust types, not anything in the file.
     match &error.code {
         ron::Error::NoSuchStructField { found, .. } => {
             located.end_with_field(found);
             let expected = message.split_once(", ").map_or("", |(_, rest)| rest);
             message = format!("unknown field, {expected}");
+        }
+        ron::Error::NoSuchEnumVariant { found, .. } => {
+            let expected = message.split_once(", ").map_or("", |(_, rest)| rest);
+            message = format!("unknown variant `{found}`, {expected}");
         }
         ron::Error::MissingStructField { field, .. } => {
             located.end_with_field(field);
