@@ -1,0 +1,48 @@
+//! Scenes shipped inside the binary, from `scenes/*.ron`.
+
+use crate::scene::error::SceneError;
+use crate::scene::file::Scene;
+use crate::scene::parse::parse;
+
+#[derive(Clone, Copy, Debug)]
+pub struct BuiltinScene {
+    pub name: &'static str,
+    /// The RON text, as in `scenes/<name>.ron`.
+    pub source: &'static str,
+}
+
+impl BuiltinScene {
+    /// Parses the scene; errors name it as `scenes/<name>.ron`.
+    pub fn parse(&self) -> Result<Scene, SceneError> {
+        parse(self.source, &format!("scenes/{}.ron", self.name))
+    }
+}
+
+macro_rules! builtin {
+    ($($name:literal),* $(,)?) => {
+        &[$(BuiltinScene {
+            name: $name,
+            source: include_str!(concat!("../../scenes/", $name, ".ron")),
+        }),*]
+    };
+}
+
+const BUILTIN_SCENES: &[BuiltinScene] = builtin![
+    "falling_box",
+    "pachinko",
+    "bounce",
+    "stack",
+    "pyramid",
+    "dzhanibekov",
+    "rain",
+    "hulls",
+];
+
+/// Every built-in scene, in menu order.
+pub fn builtin_scenes() -> &'static [BuiltinScene] {
+    BUILTIN_SCENES
+}
+
+pub fn find_builtin(name: &str) -> Option<&'static BuiltinScene> {
+    BUILTIN_SCENES.iter().find(|scene| scene.name == name)
+}

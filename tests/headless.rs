@@ -1,0 +1,209 @@
+//! The headless runner, run as a separate process: its state output against the closed form of
+//! semi-implicit Euler free fall, and its exit code and message on bad input.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+const G: f64 = 9.81;
+const Y0: f64 = 10.0;
+
+/// A file in this test binary's scratch directory (cleaned by `cargo clean`).
+fn scratch(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("headless_{name}"))
+}
+
+fn write_scene(name: &str, text: &str) -> PathBuf {
+    let path = scratch(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// One ball released at rest at (1, Y0, −2) in uniform gravity, plus a static floor that must
+/// not appear in the output.
+fn free_fall_scene(name: &str) -> PathBuf {
+    write_scene(
+        name,
+        &format!(
+            r#"Scene(
+    name: "free_fall",
+    settings: (dt: 0.01, integrator: Midpoint),
+    forces: [Gravity(acceleration: (0.0, -{G}, 0.0))],
+    bodies: [
+        (name: "floor", shape: Cuboid(half_extents: (1.0, 0.1, 1.0)), position: (0.0, -50.0, 0.0),
+         static: true),
+        (name: "ball", shape: Sphere(radius: 0.1), position: (1.0, {Y0}, -2.0)),
+    ],
+)"#
+        ),
+    )
+}
+
+fn headless(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_headless"))
+        .args(args)
+        .output()
+        .expect("run headless")
+}
+
+/// y_n = y0 − g h² n(n+1)/2: the velocity is updated first, then the position with it.
+fn euler_height(h: f64, n: u64) -> f64 {
+    Y0 - G * h * h * (n * (n + 1)) as f64 / 2.0
+}
+
+fn csv_rows(path: &PathBuf) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "step,time,body,name,x,y,z,qx,qy,qz,qw,vx,vy,vz,wx,wy,wz"
+    );
+    lines
+        .map(|line| line.split(',').map(str::to_owned).collect())
+        .collect()
+}
+
+#[test]
+fn csv_free_fall_matches_semi_implicit_euler() {
+    let scene = free_fall_scene("free_fall_csv.ron");
+    let csv = scratch("free_fall.csv");
+    let steps = 250;
+    let output = headless(&[
+        "--scene",
+        scene.to_str().unwrap(),
+        "--steps",
+        &steps.to_string(),
+        "--csv",
+        csv.to_str().unwrap(),
+        "--every",
+        "7",
+    ]);
+    assert!(output.status.success(), "{output:?}");
+    let rows = csv_rows(&csv);
+    // Step 0, every 7th step, and the last one (250 is not a multiple of 7); the ball only.
+    assert_eq!(rows.len(), 1 + 250 / 7 + 1);
+    assert!(rows.iter().all(|row| row[2] == "1" && row[3] == "ball"));
+    let last = rows.last().unwrap();
+    let number = |i: usize| last[i].parse::<f64>().unwrap();
+    assert_eq!(last[0], "250");
+    assert!((number(1) - 2.5).abs() < 1e-12);
+    assert!((number(5) - euler_height(0.01, steps)).abs() < 1e-9);
+    assert!((number(4) - 1.0).abs() < 1e-12 && (number(6) + 2.0).abs() < 1e-12);
+    assert!((number(12) + G * 0.01 * steps as f64).abs() < 1e-9);
+    // Unrotated: the quaternion stays (0, 0, 0, 1).
+    assert_eq!(&last[7..11], ["0", "0", "0", "1"]);
+}
+
+#[test]
+fn json_output_with_dt_and_integrator_overrides() {
+    let scene = free_fall_scene("free_fall_json.ron");
+    let json = scratch("free_fall.jsonl");
+    let (steps, h) = (120, 0.005);
+    let output = headless(&[
+        "--scene",
+        scene.to_str().unwrap(),
+        "--steps",
+        &steps.to_string(),
+        "--dt",
+        &h.to_string(),
+        "--integrator",
+        "report_euler",
+        "--json",
+        json.to_str().unwrap(),
+        "--every",
+        "1000",
+    ]);
+    assert!(output.status.success(), "{output:?}");
+    let stdout = String::from_utf8(output.stdout).unwrap();
+    assert!(
+        stdout.contains("integrator       report_euler, dt 0.005 s"),
+        "{stdout}"
+    );
+    let text = std::fs::read_to_string(&json).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 2);
+    let last = lines[1];
+    assert!(last.starts_with("{\"step\":120,"), "{last}");
+    assert!(last.contains("\"name\":\"ball\""), "{last}");
+    let position = last
+        .split("\"position\":[")
+        .nth(1)
+        .and_then(|rest| rest.split(']').next())
+        .unwrap();
+    let y: f64 = position.split(',').nth(1).unwrap().parse().unwrap();
+    assert!((y - euler_height(h, steps)).abs() < 1e-9, "{y}");
+}
+
+#[test]
+fn summary_reports_counts_energy_and_momentum() {
+    let scene = free_fall_scene("free_fall_summary.ron");
+    let output = headless(&["--scene", scene.to_str().unwrap(), "--steps", "100"]);
+    assert!(output.status.success(), "{output:?}");
+    let stdout = String::from_utf8(output.stdout).unwrap();
+    for expected in [
+        "bodies           2 (1 dynamic)",
+        "steps            100, simulated 1.000000 s",
+        "energy K+U       initial",
+        "energy drift",
+        "linear momentum  initial [0, 0, 0], final",
+        "angular momentum initial",
+    ] {
+        assert!(
+            stdout.contains(expected),
+            "missing {expected:?} in:\n{stdout}"
+        );
+    }
+}
+
+#[test]
+fn built_in_scene_runs_by_name() {
+    let output = headless(&["--scene", "stack", "--steps", "10"]);
+    assert!(output.status.success(), "{output:?}");
+    let stdout = String::from_utf8(output.stdout).unwrap();
+    assert!(
+        stdout.contains("bodies           11 (10 dynamic)"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn bad_scene_file_exits_2_with_the_message_on_stderr() {
+    let scene = write_scene(
+        "bad.ron",
+        r#"Scene(name: "bad", bodies: [(name: "crate_3", shape: Cuboid(half_extents: (-1.0, 1.0, 1.0)))])"#,
+    );
+    let output = headless(&["--scene", scene.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    let expected = format!(
+        "{}: body 'crate_3' field 'shape.half_extents.x': must be positive, got -1",
+        scene.display()
+    );
+    assert!(stderr.contains(&expected), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(output.stdout.is_empty());
+}
+
+#[test]
+fn unknown_scene_and_bad_dt_exit_2() {
+    let output = headless(&["--scene", "no_such_scene"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        String::from_utf8(output.stderr)
+            .unwrap()
+            .contains("no_such_scene")
+    );
+    let output = headless(&["--dt", "NaN"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8(output.stderr).unwrap().contains("--dt"));
+}
+
+#[test]
+fn unwritable_output_exits_2() {
+    let output = headless(&["--steps", "1", "--csv", "/nonexistent/dir/out.csv"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        String::from_utf8(output.stderr)
+            .unwrap()
+            .contains("/nonexistent/dir/out.csv")
+    );
+}
