@@ -46,7 +46,10 @@ fn headless(args: &[&str]) -> Output {
 }
 
 /// y_n = y0 − g h² n(n+1)/2: the velocity is updated first, then the position with it.
-fn euler_height(h: f64, n: u64) -> f64 {
+/// The world runs each step of `dt` as `substeps` substeps of dt / substeps.
+fn euler_height(dt: f64, steps: u64) -> f64 {
+    let substeps = rigid::physics::soft_solver::SoftSolverSettings::default().substeps as u64;
+    let (h, n) = (dt / substeps as f64, steps * substeps);
     Y0 - G * h * h * (n * (n + 1)) as f64 / 2.0
 }
 

@@ -17,6 +17,7 @@ impl Scene {
         let descs = self.body_descs()?;
         let mut world = World::new(WorldSettings {
             integrator: self.settings.integrator,
+            ..WorldSettings::default()
         });
         world.forces = self.forces.iter().map(to_force).collect();
         for desc in descs {
