@@ -80,6 +80,11 @@ pub struct RigidBody {
     /// Accumulated over one step, cleared after integration.
     pub force: DVec3,
     pub torque: DVec3,
+
+    /// Asleep: neither integrated nor solved until something wakes it (see `islands`).
+    pub sleeping: bool,
+    /// How long the body has been quiet enough to sleep, s.
+    pub quiet_time: f64,
 }
 
 /// Everything needed to create a body. The pose places the shape's own frame.
@@ -299,6 +304,8 @@ impl RigidBody {
             inv_inertia_world: DMat3::ZERO,
             force: DVec3::ZERO,
             torque: DVec3::ZERO,
+            sleeping: false,
+            quiet_time: 0.0,
         };
         body.refresh_world_inertia();
         if body.is_dynamic() {
@@ -310,6 +317,23 @@ impl RigidBody {
 
     pub fn is_dynamic(&self) -> bool {
         self.motion == Motion::Dynamic
+    }
+
+    /// Dynamic and not asleep: the bodies a step moves.
+    pub fn is_awake(&self) -> bool {
+        self.is_dynamic() && !self.sleeping
+    }
+
+    pub fn wake(&mut self) {
+        self.sleeping = false;
+        self.quiet_time = 0.0;
+    }
+
+    /// Puts the body to sleep, at rest.
+    pub fn sleep(&mut self) {
+        self.sleeping = true;
+        self.linear_momentum = DVec3::ZERO;
+        self.angular_momentum = DVec3::ZERO;
     }
 
     pub fn mass(&self) -> f64 {
@@ -348,12 +372,14 @@ impl RigidBody {
     pub fn set_velocity(&mut self, velocity: DVec3) {
         if self.is_dynamic() {
             self.linear_momentum = velocity * self.mass();
+            self.wake();
         }
     }
 
     pub fn set_angular_velocity(&mut self, angular_velocity: DVec3) {
         if self.is_dynamic() {
             self.angular_momentum = self.inertia_world() * angular_velocity;
+            self.wake();
         }
     }
 
@@ -368,11 +394,13 @@ impl RigidBody {
         self.torque += (point - self.position).cross(force);
     }
 
-    /// An instantaneous change of momentum at a world point. Static bodies ignore it.
+    /// An instantaneous change of momentum at a world point (a user's push: it wakes the
+    /// body). Static bodies ignore it.
     pub fn apply_impulse_at(&mut self, impulse: DVec3, point: DVec3) {
         if self.is_dynamic() {
             self.linear_momentum += impulse;
             self.angular_momentum += (point - self.position).cross(impulse);
+            self.wake();
         }
     }
 

@@ -1,7 +1,7 @@
 //! The engine. Nothing here knows about windows, GPUs or user interfaces.
 //!
-//! Reading order of a step (see `World::step`): broad phase → narrow phase → solve (forces,
-//! integration and contacts, in substeps) → diagnostics.
+//! Reading order of a step (see `World::step`): broad phase → narrow phase → islands/sleep →
+//! solve (forces, integration and contacts, in substeps) → diagnostics.
 
 pub mod aabb;
 pub mod body;
@@ -14,6 +14,7 @@ pub mod forces;
 pub mod gjk;
 pub mod hull;
 pub mod integrate;
+pub mod islands;
 pub mod manifold;
 pub mod mass;
 pub mod narrow_phase;

@@ -18,7 +18,7 @@ pub const SPECULATIVE_DISTANCE: f64 = 0.02;
 
 /// An upper bound on how far any surface point of `body` moves in `dt`: |v| dt + |ω| r dt.
 pub fn motion_bound(body: &RigidBody, dt: f64) -> f64 {
-    if !body.is_dynamic() {
+    if !body.is_awake() {
         return 0.0;
     }
     let reach = body.shape.bounding_radius() + body.local_center.length();
@@ -35,7 +35,11 @@ pub fn proxies(bodies: &[RigidBody], dt: f64) -> Vec<Proxy> {
                 aabb: Aabb::new(DVec3::INFINITY, DVec3::NEG_INFINITY),
                 active: false,
             },
-            _ => Proxy::of_body(body, 0.5 * SPECULATIVE_DISTANCE + motion_bound(body, dt)),
+            // Sleeping bodies are inactive: they pair with awake bodies only.
+            _ => Proxy {
+                active: body.is_awake(),
+                ..Proxy::of_body(body, 0.5 * SPECULATIVE_DISTANCE + motion_bound(body, dt))
+            },
         })
         .collect()
 }
@@ -50,7 +54,7 @@ pub fn find_manifolds(bodies: &[RigidBody], pairs: &[BodyPair], dt: f64) -> Vec<
 
 fn manifold_of_pair(bodies: &[RigidBody], pair: &BodyPair, dt: f64) -> Option<ContactManifold> {
     let (a, b) = (&bodies[pair.a.index()], &bodies[pair.b.index()]);
-    if !a.is_dynamic() && !b.is_dynamic() {
+    if !a.is_awake() && !b.is_awake() {
         return None;
     }
     let margin = SPECULATIVE_DISTANCE + motion_bound(a, dt) + motion_bound(b, dt);

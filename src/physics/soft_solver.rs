@@ -158,7 +158,7 @@ pub fn step(
         let dynamic = bodies
             .iter_mut()
             .zip(&user_forces)
-            .filter(|(b, _)| b.is_dynamic());
+            .filter(|(b, _)| b.is_awake());
         for (body, &(force, torque)) in dynamic {
             body.force = force;
             body.torque = torque;
@@ -172,7 +172,7 @@ pub fn step(
             h,
             Some((softness, ctx.settings.max_push_out)),
         );
-        for body in bodies.iter_mut().filter(|b| b.is_dynamic()) {
+        for body in bodies.iter_mut().filter(|b| b.is_awake()) {
             integrate::integrate_pose(body, h, ctx.integrator);
         }
         solve(bodies, &mut constraints, h, None);
@@ -183,7 +183,7 @@ pub fn step(
 }
 
 fn environment_acceleration(body: &RigidBody, forces: &[EnvironmentForce]) -> DVec3 {
-    if !body.is_dynamic() {
+    if !body.is_awake() {
         return DVec3::ZERO;
     }
     forces.iter().map(|f| f.force_on(body)).sum::<DVec3>() * body.inv_mass
@@ -278,7 +278,7 @@ fn apply_pair_impulse(
 }
 
 fn apply_impulse(body: &mut RigidBody, lever: DVec3, impulse: DVec3) {
-    if body.is_dynamic() {
+    if body.is_awake() {
         body.linear_momentum += impulse;
         body.angular_momentum += lever.cross(impulse);
     }

@@ -27,6 +27,7 @@ use crate::physics::contact::ContactManifold;
 use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::integrate::{self, Integrator};
+use crate::physics::islands::{self, SleepSettings};
 use crate::physics::narrow_phase;
 use crate::physics::soft_solver::{self, SoftSolverSettings, StepContext};
 
@@ -36,6 +37,7 @@ pub struct WorldSettings {
     pub integrator: Integrator,
     pub broad_phase: BroadPhaseKind,
     pub solver: SoftSolverSettings,
+    pub sleep: SleepSettings,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -44,6 +46,9 @@ pub struct World {
     broad_phase: BroadPhaseState,
     manifolds: Vec<ContactManifold>,
     contact_cache: ContactCache,
+    /// The force list as the last step saw it: an edit wakes every body.
+    forces_seen: Vec<EnvironmentForce>,
+    awake: usize,
     /// Environmental forces, applied to every dynamic body each step. Edit freely.
     pub forces: Vec<EnvironmentForce>,
     pub settings: WorldSettings,
@@ -152,8 +157,15 @@ impl World {
         // A non-finite user force or state is caught before any contact can spread it.
         self.isolate_non_finite();
         if dt >= 0.0 {
+            self.wake_on_user_input();
             let pairs = self.broad_phase(dt);
             self.manifolds = narrow_phase::find_manifolds(&self.bodies, &pairs, dt);
+            self.awake =
+                islands::update(&mut self.bodies, &self.manifolds, dt, &self.settings.sleep);
+            let bodies = &self.bodies;
+            self.manifolds.retain(|m| {
+                bodies[m.body_a.index()].is_awake() || bodies[m.body_b.index()].is_awake()
+            });
             self.solve(dt);
         } else {
             self.manifolds.clear();
@@ -162,6 +174,24 @@ impl World {
         self.isolate_non_finite();
         self.time += dt;
         self.steps += 1;
+    }
+
+    /// Dynamic bodies that were awake in the last step.
+    pub fn awake_count(&self) -> usize {
+        self.awake
+    }
+
+    /// A changed force list, or a force a user put on a sleeping body, wakes it.
+    fn wake_on_user_input(&mut self) {
+        let forces_changed = self.forces != self.forces_seen;
+        if forces_changed {
+            self.forces_seen = self.forces.clone();
+        }
+        for body in self.bodies.iter_mut().filter(|b| b.sleeping) {
+            if forces_changed || body.force != DVec3::ZERO || body.torque != DVec3::ZERO {
+                body.wake();
+            }
+        }
     }
 
     /// The contact manifolds found in the last step.
@@ -200,7 +230,7 @@ impl World {
     fn run_backwards(&mut self, dt: f64) {
         let substeps = self.settings.solver.substeps.max(1);
         let h = dt / substeps as f64;
-        for body in self.bodies.iter_mut().filter(|b| b.is_dynamic()) {
+        for body in self.bodies.iter_mut().filter(|b| b.is_awake()) {
             let (force, torque) = (body.force, body.torque);
             for _ in 0..substeps {
                 body.force = force;
