@@ -202,8 +202,10 @@ fn pose() -> impl Strategy<Value = (DVec3, DQuat)> {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
-    /// Contacts exist exactly when the shapes are within the margin; each contact's points lie
-    /// on their shapes, the deepest matches the signed distance for round pairs, at most 4.
+    /// Contacts exist when the shapes are within the margin; polyhedra may also report a
+    /// slightly farther pair, since a separating axis only bounds the distance from below,
+    /// but the deepest contact is never farther than the true distance. Each contact's points lie on
+    /// their shapes, no contact is deeper than the penetration depth, at most 4.
     #[test]
     fn random_pairs_give_consistent_contacts(sa in shape(), sb in shape(), pa in pose(), pb in pose()) {
         let (a, b) = (at(&sa, pa.0, pa.1), at(&sb, pb.0, pb.1));
@@ -212,8 +214,10 @@ proptest! {
         let distance = gjk_distance(&a, &b).distance;
         let scale = sa.bounding_radius().max(sb.bounding_radius());
         prop_assert!(contacts.len() <= 4);
+        if let Some(deepest) = contacts.first() {
+            prop_assert!(deepest.separation <= distance.max(0.0) + 1e-9 * scale);
+        }
         if distance > margin + 1e-9 * scale {
-            prop_assert!(contacts.is_empty());
             return Ok(());
         }
         if distance < margin - 1e-6 * scale {
@@ -225,7 +229,7 @@ proptest! {
             prop_assert!((c.normal.length() - 1.0).abs() < 1e-9);
             prop_assert!(c.separation <= margin + 1e-9 * scale);
             // No contact claims to be deeper than the true penetration depth.
-            prop_assert!(c.separation >= deepest - 1e-6 * scale, "{} < {}", c.separation, deepest);
+            prop_assert!(c.separation >= deepest.min(0.0) - 1e-6 * scale, "{} < {}", c.separation, deepest);
             // Each point is on (or inside) its shape.
             let on_a = rigid::physics::SupportMap::support(&a, c.normal);
             let on_b = rigid::physics::SupportMap::support(&b, -c.normal);

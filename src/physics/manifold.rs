@@ -259,24 +259,23 @@ fn best_edge_axis(a: &Polyhedron, b: &Polyhedron) -> Option<Axis> {
             if length <= 1e-9 * (a1 - a0).length() * (b1 - b0).length() {
                 continue; // parallel edges: covered by the face axes
             }
-            let mut axis = cross / length;
-            if axis.dot(b.centroid - a.centroid) < 0.0 {
-                axis = -axis;
-            }
-            let reach_a = a.support_value(axis);
-            let reach_b = -b.support_value(-axis);
-            let supporting = 1e-9 * size;
-            if reach_a - axis.dot(a0) > supporting || axis.dot(b0) - reach_b > supporting {
-                continue;
-            }
-            let separation = reach_b - reach_a;
-            if best.is_none_or(|current| separation > current.separation()) {
-                best = Some(Axis::Edges {
-                    edge_a: i,
-                    edge_b: j,
-                    axis,
-                    separation,
-                });
+            // Either orientation may be the one from A to B; the right one separates more.
+            for axis in [cross / length, -cross / length] {
+                let reach_a = a.support_value(axis);
+                let reach_b = -b.support_value(-axis);
+                let supporting = 1e-9 * size;
+                if reach_a - axis.dot(a0) > supporting || axis.dot(b0) - reach_b > supporting {
+                    continue;
+                }
+                let separation = reach_b - reach_a;
+                if best.is_none_or(|current| separation > current.separation()) {
+                    best = Some(Axis::Edges {
+                        edge_a: i,
+                        edge_b: j,
+                        axis,
+                        separation,
+                    });
+                }
             }
         }
     }

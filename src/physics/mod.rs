@@ -20,6 +20,7 @@ pub mod mass;
 pub mod narrow_phase;
 pub mod shape;
 pub mod soft_solver;
+pub mod toi;
 pub mod world;
 
 pub use aabb::Aabb;
@@ -35,4 +36,5 @@ pub use integrate::Integrator;
 pub use manifold::{contact_manifold, generate_contacts};
 pub use mass::MassProperties;
 pub use shape::{Pose, Shape, ShapeError};
+pub use toi::{Rewind, TimeOfImpact, bisection_rewind, conservative_advancement, swept_aabb};
 pub use world::{Fault, World, WorldSettings, WorldTotals};
