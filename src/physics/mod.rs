@@ -6,6 +6,7 @@
 pub mod aabb;
 pub mod body;
 pub mod broad_phase;
+pub mod classic;
 pub mod compound;
 pub mod contact;
 pub mod contact_cache;
@@ -37,4 +38,4 @@ pub use manifold::{contact_manifold, generate_contacts};
 pub use mass::MassProperties;
 pub use shape::{Pose, Shape, ShapeError};
 pub use toi::{Rewind, TimeOfImpact, bisection_rewind, conservative_advancement, swept_aabb};
-pub use world::{Fault, World, WorldSettings, WorldTotals};
+pub use world::{Fault, Pipeline, World, WorldSettings, WorldTotals};

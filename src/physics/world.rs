@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::physics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
 use crate::physics::broad_phase::{BodyPair, BroadPhase, BroadPhaseKind};
+use crate::physics::classic::{self, ClassicContext, ClassicReport, ClassicSettings};
 use crate::physics::contact::ContactManifold;
 use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::{self, EnvironmentForce};
@@ -35,9 +36,24 @@ use crate::physics::soft_solver::{self, SoftSolverSettings, StepContext};
 #[serde(deny_unknown_fields, default)]
 pub struct WorldSettings {
     pub integrator: Integrator,
+    pub pipeline: Pipeline,
     pub broad_phase: BroadPhaseKind,
+    /// Settings of the `soft` pipeline.
     pub solver: SoftSolverSettings,
+    /// Settings of the `classic` pipeline.
+    pub classic: ClassicSettings,
     pub sleep: SleepSettings,
+}
+
+/// How contacts are handled; switchable between steps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Pipeline {
+    /// Substepped soft-constraint solver with warm starting and friction (see `soft_solver`).
+    #[default]
+    Soft,
+    /// The report's method: time-ordered impacts, bisection rewind, Newton impulses
+    /// (see `classic`).
+    Classic,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -49,6 +65,7 @@ pub struct World {
     /// The force list as the last step saw it: an edit wakes every body.
     forces_seen: Vec<EnvironmentForce>,
     awake: usize,
+    classic_report: ClassicReport,
     /// Environmental forces, applied to every dynamic body each step. Edit freely.
     pub forces: Vec<EnvironmentForce>,
     pub settings: WorldSettings,
@@ -166,7 +183,10 @@ impl World {
             self.manifolds.retain(|m| {
                 bodies[m.body_a.index()].is_awake() || bodies[m.body_b.index()].is_awake()
             });
-            self.solve(dt);
+            match self.settings.pipeline {
+                Pipeline::Soft => self.solve(dt),
+                Pipeline::Classic => self.solve_classic(&pairs, dt),
+            }
         } else {
             self.manifolds.clear();
             self.run_backwards(dt);
@@ -174,6 +194,25 @@ impl World {
         self.isolate_non_finite();
         self.time += dt;
         self.steps += 1;
+    }
+
+    /// Counters of the last step when the classic pipeline ran it.
+    pub fn classic_report(&self) -> ClassicReport {
+        self.classic_report
+    }
+
+    /// The report's pipeline; its touching contacts replace the speculative ones for display.
+    fn solve_classic(&mut self, pairs: &[BodyPair], dt: f64) {
+        let ctx = ClassicContext {
+            forces: &self.forces,
+            integrator: self.settings.integrator,
+            settings: &self.settings.classic,
+            dt,
+        };
+        let (report, touching) = classic::step(&mut self.bodies, pairs, &ctx);
+        self.classic_report = report;
+        self.manifolds = touching;
+        self.contact_cache.clear();
     }
 
     /// Dynamic bodies that were awake in the last step.
