@@ -2,3 +2,8 @@
 //! "Simulation physique de corps rigides avec interaction", with an interactive viewer.
 
 pub mod physics;
+#[cfg(feature = "viewer")]
+pub mod render;
+pub mod sim;
+#[cfg(feature = "viewer")]
+pub mod ui;
