@@ -80,7 +80,7 @@ fn falling_box() -> Result<SceneSetup, BodyError> {
     )?;
     Ok(SceneSetup {
         world,
-        camera: camera([5.0, 4.0, 7.0], [0.0, 1.2, 0.0]),
+        camera: camera([6.0, 4.5, 8.5], [0.0, 1.2, 0.0]),
     })
 }
 
@@ -118,14 +118,14 @@ fn pachinko() -> Result<SceneSetup, BodyError> {
     add_balls(&mut world)?;
     Ok(SceneSetup {
         world,
-        camera: camera([0.0, 5.0, 13.0], [0.0, 4.6, 0.0]),
+        camera: camera([3.5, 7.0, 12.0], [0.0, 4.4, 0.0]),
     })
 }
 
 fn add_pins(world: &mut World) -> Result<(), BodyError> {
     // Cylinders are built along y; a quarter turn about x points them out of the board.
     let across = DQuat::from_rotation_x(FRAC_PI_2);
-    let pin = Shape::cylinder(PACHINKO_DEPTH, 0.08);
+    let pin = Shape::cylinder(PACHINKO_DEPTH, 0.1);
     let spacing = 0.6;
     for row in 0..9 {
         let y = 2.2 + row as f64 * 0.6;

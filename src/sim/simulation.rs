@@ -331,6 +331,11 @@ fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32) -> BodyState 
         aabb: (min.as_vec3(), max.as_vec3()),
         bounding_radius: body.shape.bounding_radius() as f32,
         center_of_mass: body.position.as_vec3(),
+        mass: if body.is_dynamic() {
+            body.mass() as f32
+        } else {
+            0.0
+        },
         is_dynamic: body.is_dynamic(),
         sleeping: false,
         velocity: body.velocity().as_vec3(),

@@ -38,6 +38,8 @@ pub struct BodyState {
     /// Radius of a sphere around the shape origin that holds the body.
     pub bounding_radius: f32,
     pub center_of_mass: Vec3,
+    /// kg; 0 for static bodies.
+    pub mass: f32,
     pub is_dynamic: bool,
     /// Always false until the engine has sleeping islands.
     pub sleeping: bool,
