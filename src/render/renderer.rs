@@ -29,7 +29,8 @@ const PALETTE: [[f32; 3]; 6] = [
 pub const STATIC_COLOR: [f32; 3] = [0.60, 0.63, 0.68];
 /// Distinct from every palette entry: a saturated blue-violet.
 pub const SLEEP_COLOR: [f32; 3] = [0.35, 0.35, 0.95];
-const SELECTED_COLOR: [f32; 3] = [1.0, 1.0, 1.0];
+/// How far the selected body's colour moves toward white.
+const SELECTED_LIGHTEN: f32 = 0.45;
 
 /// Which overlays to draw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -338,15 +339,26 @@ impl SceneRenderer {
 
 fn body_color(frame: &FrameInput, index: usize) -> [f32; 3] {
     let body = &frame.snapshot.bodies[index];
-    if frame.selected == Some(index) {
-        SELECTED_COLOR
-    } else if body.sleeping && frame.overlays.sleep_tint {
+    let base = if body.sleeping && frame.overlays.sleep_tint {
         SLEEP_COLOR
     } else if !body.is_dynamic {
-        STATIC_COLOR
+        static_color(body.shape_id)
     } else {
         PALETTE[index % PALETTE.len()]
+    };
+    if frame.selected == Some(index) {
+        // Lightened rather than replaced, so the body keeps its identity while held.
+        base.map(|c| c + (1.0 - c) * SELECTED_LIGHTEN)
+    } else {
+        base
     }
+}
+
+/// Fixed bodies share one tint; its brightness steps with the shape so that touching fixed
+/// parts (pins on a board, a cube on a platform) stay distinguishable.
+fn static_color(shape_id: u32) -> [f32; 3] {
+    let shade = [1.0, 0.78, 0.9][shape_id as usize % 3];
+    STATIC_COLOR.map(|c| c * shade)
 }
 
 /// Gamma-encoded colour to the linear values the lighting works in.

@@ -118,7 +118,7 @@ fn pachinko() -> Result<SceneSetup, BodyError> {
     add_balls(&mut world)?;
     Ok(SceneSetup {
         world,
-        camera: camera([3.5, 7.0, 12.0], [0.0, 4.4, 0.0]),
+        camera: camera([4.0, 7.5, 16.5], [0.0, 4.8, 0.0]),
     })
 }
 

@@ -190,7 +190,11 @@ impl App {
         let poses = snapshot.poses_at(snapshot.blend_factor(now));
 
         let (ui_frame, mut commands) = self.run_panel(&snapshot);
-        let hovered = self.pick_under_cursor(&snapshot, &poses).map(|p| p.body);
+        // Only bodies the mouse can push are highlighted under the cursor.
+        let hovered = self
+            .pick_under_cursor(&snapshot, &poses)
+            .map(|p| p.body)
+            .filter(|&i| snapshot.bodies[i].is_dynamic);
         let mut extra_lines = Vec::new();
         if let (Some(drag), Some(ray)) = (self.drag, self.cursor_ray())
             && let Some(body) = snapshot.bodies.get(drag.body)
