@@ -216,7 +216,7 @@ fn aabb_overlay_draws_its_colour_only_when_on() {
 /// Pixels in `region` whose hue is the sleep colour's: blue well above red and green (the
 /// sky is bluish but far less saturated, the body palette has no blue).
 fn count_sleep_hue(image: &RgbaImage, region: ((f32, f32), (f32, f32))) -> usize {
-    assert!(SLEEP_COLOR[2] > SLEEP_COLOR[0] + 0.5 && SLEEP_COLOR[2] > SLEEP_COLOR[1] + 0.5);
+    const { assert!(SLEEP_COLOR[2] > SLEEP_COLOR[0] + 0.5 && SLEEP_COLOR[2] > SLEEP_COLOR[1] + 0.5) };
     image
         .enumerate_pixels()
         .filter(|(x, y, _)| inside(region, (*x, *y)))

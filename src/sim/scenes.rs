@@ -206,7 +206,7 @@ fn spin() -> Result<SceneSetup, BodyError> {
     )?;
     Ok(SceneSetup {
         world,
-        camera: camera([0.0, 2.5, 5.0], [0.0, 1.5, 0.0]),
+        camera: camera([1.5, 3.0, 6.5], [0.0, 1.5, 0.0]),
     })
 }
 
