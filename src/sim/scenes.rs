@@ -190,7 +190,7 @@ fn shapes() -> Result<SceneSetup, BodyError> {
     }
     Ok(SceneSetup {
         world,
-        camera: camera([0.0, 4.0, 9.0], [0.0, 1.0, 0.0]),
+        camera: camera([0.0, 5.5, 10.0], [0.0, 0.8, 0.0]),
     })
 }
 

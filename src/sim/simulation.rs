@@ -19,6 +19,10 @@ use crate::sim::snapshot::{
 const HISTORY_INTERVAL: f64 = 1.0 / 30.0;
 const HISTORY_LEN: usize = 600;
 
+/// Wall time over which the step rate and step cost are averaged: short enough to show
+/// within a fraction of a second of starting.
+const RATE_WINDOW: Duration = Duration::from_millis(250);
+
 /// Bounds on the user-set step and time scale: beyond them the fixed-dt loop cannot keep up
 /// or the integrators lose their accuracy.
 const DT_RANGE: (f64, f64) = (1e-4, 0.05);
@@ -343,7 +347,7 @@ fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32) -> BodyState 
     }
 }
 
-/// Step rate and mean step cost over windows of one wall-clock second.
+/// Step rate and mean step cost over windows of `RATE_WINDOW` wall-clock time.
 #[derive(Default)]
 struct RateMeter {
     window_start: Option<Instant>,
@@ -360,7 +364,7 @@ impl RateMeter {
         self.steps += 1;
         self.busy += step_time;
         let window = now - start;
-        if window >= Duration::from_secs(1) {
+        if window >= RATE_WINDOW {
             self.steps_per_second = self.steps as f64 / window.as_secs_f64();
             self.mean_step = self.busy.as_secs_f64() / self.steps as f64;
             *self = RateMeter {

@@ -67,9 +67,9 @@ pub struct ShapeTable {
 pub struct Counters {
     pub sim_time: f64,
     pub steps: u64,
-    /// Steps per wall-clock second, measured over the last second.
+    /// Steps per wall-clock second, averaged over the last quarter second.
     pub step_rate: f64,
-    /// Mean wall time of one `World::step` over the last second, s.
+    /// Mean wall time of one `World::step` over the same window, s.
     pub step_wall_time: f64,
     pub bodies: usize,
     pub kinetic_energy: f64,

@@ -360,7 +360,7 @@ fn empty_ui_frame() -> UiFrame {
     }
 }
 
-/// Frame timing: the last frame's duration and frames per second over one-second windows.
+/// Frame timing: the last frame's duration and frames per second over quarter-second windows.
 #[derive(Default)]
 struct FrameClock {
     last: Option<Instant>,
@@ -377,7 +377,7 @@ impl FrameClock {
         let start = *self.window_start.get_or_insert(now);
         self.frames += 1;
         let window = (now - start).as_secs_f64();
-        if window >= 1.0 {
+        if window >= 0.25 {
             self.rate = self.frames as f64 / window;
             self.frames = 0;
             self.window_start = Some(now);

@@ -80,7 +80,10 @@ mod tests {
             direction: -Vec3::Y,
         };
         assert_eq!(pick(&down(0.35, 0.2), &snapshot, &poses).unwrap().body, 2);
-        assert_eq!(pick(&down(-0.45, -0.45), &snapshot, &poses).unwrap().body, 1);
+        assert_eq!(
+            pick(&down(-0.45, -0.45), &snapshot, &poses).unwrap().body,
+            1
+        );
         let hit = pick(&down(3.0, 3.0), &snapshot, &poses).unwrap();
         assert_eq!(hit.body, 0);
         assert!((hit.point.y - 0.0).abs() < 1e-4);
