@@ -169,20 +169,26 @@ impl Panel {
     }
 
     fn world_section(&mut self, ui: &mut egui::Ui, out: &mut Vec<Command>) {
-        ui.label("Gravity (m/s²)");
         let mut changed = false;
-        for (value, axis) in self.gravity.iter_mut().zip(["x", "y", "z"]) {
-            changed |= ui
-                .add(egui::Slider::new(value, -20.0..=20.0).text(axis))
-                .changed();
-        }
         ui.horizontal(|ui| {
+            ui.label("gravity");
             for (name, g) in [("Earth", -9.81), ("Moon", -1.62), ("Zero", 0.0)] {
                 if ui.button(name).clicked() {
                     self.gravity = [0.0, g, 0.0];
                     changed = true;
                 }
             }
+        });
+        ui.horizontal(|ui| {
+            for (value, axis) in self.gravity.iter_mut().zip(["x", "y", "z"]) {
+                let drag = egui::DragValue::new(value)
+                    .speed(0.05)
+                    .range(-50.0..=50.0)
+                    .fixed_decimals(2)
+                    .prefix(format!("{axis} "));
+                changed |= ui.add(drag).changed();
+            }
+            ui.label("m/s²");
         });
         if changed {
             out.push(Command::SetGravity(DVec3::from_array(self.gravity)));
@@ -211,24 +217,46 @@ impl Panel {
 
 fn counters(ui: &mut egui::Ui, snapshot: &Snapshot, stats: FrameStats) {
     let c = &snapshot.counters;
-    egui::Grid::new("counters").num_columns(2).show(ui, |ui| {
-        let mut row = |name: &str, value: String| {
-            ui.label(name);
-            ui.monospace(value);
-            ui.end_row();
-        };
-        row("bodies", c.bodies.to_string());
-        row("sim time", format!("{:.2} s", c.sim_time));
-        row("sim rate", format!("{:.0} steps/s", c.step_rate));
-        row("step time", format!("{:.3} ms", c.step_wall_time * 1e3));
-        row("render rate", format!("{:.0} fps", stats.frames_per_second));
-        row(
+    let pairs = [
+        [
+            ("bodies", c.bodies.to_string()),
+            ("sim time", format!("{:.2} s", c.sim_time)),
+        ],
+        [
+            ("sim rate", format!("{:.0}/s", c.step_rate)),
+            ("step", format!("{:.3} ms", c.step_wall_time * 1e3)),
+        ],
+    ];
+    let singles = [
+        ("render", format!("{:.0} fps", stats.frames_per_second)),
+        (
             "energy",
             format!("{:.2} J", c.kinetic_energy + c.potential_energy),
-        );
-        row("|p|", format!("{:.3} N·s", c.linear_momentum));
-        row("|L|", format!("{:.3} N·m·s", c.angular_momentum));
-    });
+        ),
+        ("|p|", format!("{:.3} N·s", c.linear_momentum)),
+        ("|L|", format!("{:.3} N·m·s", c.angular_momentum)),
+    ];
+    // Short counters two to a row keep the plots in view on a 720-pixel window.
+    egui::Grid::new("short counters")
+        .num_columns(4)
+        .show(ui, |ui| {
+            for pair in &pairs {
+                for (name, value) in pair {
+                    ui.label(*name);
+                    ui.monospace(value);
+                }
+                ui.end_row();
+            }
+        });
+    egui::Grid::new("long counters")
+        .num_columns(2)
+        .show(ui, |ui| {
+            for (name, value) in &singles {
+                ui.label(*name);
+                ui.monospace(value);
+                ui.end_row();
+            }
+        });
 }
 
 /// A point 1.5 m above the highest body, near the scene's centre; successive spawns are

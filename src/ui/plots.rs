@@ -1,10 +1,10 @@
 //! Live plots of the history the simulation keeps: energy and momentum against sim time.
 
-use egui_plot::{Legend, Line, Plot, PlotPoints};
+use egui_plot::{Corner, Legend, Line, Plot, PlotPoints};
 
 use crate::sim::HistorySample;
 
-const PLOT_HEIGHT: f32 = 120.0;
+const PLOT_HEIGHT: f32 = 110.0;
 
 pub fn energy(ui: &mut egui::Ui, history: &[HistorySample]) {
     plot(
@@ -36,7 +36,11 @@ type Series = (&'static str, fn(&HistorySample) -> f64);
 fn plot(ui: &mut egui::Ui, id: &str, history: &[HistorySample], series: &[Series]) {
     Plot::new(id)
         .height(PLOT_HEIGHT)
-        .legend(Legend::default())
+        .legend(
+            Legend::default()
+                .position(Corner::LeftTop)
+                .background_alpha(0.5),
+        )
         .allow_drag(false)
         .allow_zoom(false)
         .allow_scroll(false)
