@@ -225,10 +225,6 @@ impl SceneRenderer {
         }
     }
 
-    pub fn format(&self) -> wgpu::TextureFormat {
-        self.format
-    }
-
     fn ensure_targets(&mut self, gpu: &Gpu, size: (u32, u32)) {
         if self.targets.as_ref().is_some_and(|t| t.size == size) {
             return;

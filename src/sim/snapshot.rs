@@ -142,3 +142,29 @@ impl Snapshot {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::Simulation;
+    use std::time::Duration;
+
+    #[test]
+    fn frames_blend_from_the_previous_step_to_the_newest() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        sim.step();
+        let snapshot = sim.snapshot(Instant::now());
+        let published = snapshot.published_at;
+        let half = published + Duration::from_secs_f64(snapshot.step_interval / 2.0);
+        assert_eq!(snapshot.blend_factor(published), 0.0);
+        assert!((snapshot.blend_factor(half) - 0.5).abs() < 1e-3);
+        assert_eq!(
+            snapshot.blend_factor(published + Duration::from_secs(1)),
+            1.0
+        );
+        let falling = &snapshot.bodies[2];
+        let y = snapshot.poses_at(0.5)[2].position.y;
+        let midway = (falling.previous.position.y + falling.pose.position.y) / 2.0;
+        assert!((y - midway).abs() < 1e-6);
+    }
+}
