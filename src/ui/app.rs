@@ -64,6 +64,8 @@ struct App {
     drag: Option<Drag>,
     clock: FrameClock,
     started: Instant,
+    /// The window was closed: draw one last frame (for the screenshot), then exit.
+    closing: bool,
     result: Result<(), String>,
 }
 
@@ -87,6 +89,7 @@ impl App {
             drag: None,
             clock: FrameClock::default(),
             started: Instant::now(),
+            closing: false,
             result: Ok(()),
         }
     }
@@ -97,9 +100,11 @@ impl App {
     }
 
     fn exit_due(&self) -> bool {
-        self.options
-            .exit_after
-            .is_some_and(|s| self.started.elapsed().as_secs_f64() >= s)
+        self.closing
+            || self
+                .options
+                .exit_after
+                .is_some_and(|s| self.started.elapsed().as_secs_f64() >= s)
     }
 
     /// The ray under the cursor, if the cursor is over the 3D view.
@@ -314,6 +319,10 @@ impl ApplicationHandler for App {
         };
         let consumed = state.on_window_event(&display.window, &event).consumed;
         match event {
+            WindowEvent::CloseRequested if self.options.screenshot.is_some() => {
+                self.closing = true;
+                display.window.request_redraw();
+            }
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(_) | WindowEvent::ScaleFactorChanged { .. } => display.resize(),
             WindowEvent::RedrawRequested => self.redraw(event_loop),
