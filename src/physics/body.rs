@@ -203,33 +203,14 @@ impl BodyDesc {
         if let Some(mass) = self.mass {
             check_positive(&body, "mass", mass)?;
         }
-        check_range(
-            &body,
-            "material.restitution",
-            self.material.restitution,
-            0.0,
-            1.0,
-        )?;
-        check_range(
-            &body,
-            "material.friction",
-            self.material.friction,
-            0.0,
-            10.0,
-        )
+        check_range(&body, "material.restitution", self.material.restitution, 0.0, 1.0)?;
+        check_range(&body, "material.friction", self.material.friction, 0.0, 10.0)
     }
 }
 
-fn check_positive(
-    body: &dyn Fn() -> String,
-    field: &'static str,
-    value: f64,
-) -> Result<(), BodyError> {
+fn check_positive(body: &dyn Fn() -> String, field: &'static str, value: f64) -> Result<(), BodyError> {
     if !value.is_finite() {
-        return Err(BodyError::NotFinite {
-            body: body(),
-            field,
-        });
+        return Err(BodyError::NotFinite { body: body(), field });
     }
     if value <= 0.0 {
         return Err(BodyError::NotPositive {
@@ -249,10 +230,7 @@ fn check_range(
     max: f64,
 ) -> Result<(), BodyError> {
     if !value.is_finite() {
-        return Err(BodyError::NotFinite {
-            body: body(),
-            field,
-        });
+        return Err(BodyError::NotFinite { body: body(), field });
     }
     if !(min..=max).contains(&value) {
         return Err(BodyError::OutOfRange {

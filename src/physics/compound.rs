@@ -41,10 +41,7 @@ impl Compound {
                 )));
             }
             part.shape.validate().map_err(|error| {
-                ShapeError::Compound(format!(
-                    "part {index} ({}): {error}",
-                    part.shape.kind_name()
-                ))
+                ShapeError::Compound(format!("part {index} ({}): {error}", part.shape.kind_name()))
             })?;
         }
         Ok(())
