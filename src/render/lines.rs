@@ -1,0 +1,118 @@
+//! Line overlays as vertex pairs: the ground grid, bounding boxes, velocity vectors and any
+//! segments the simulation supplies (contacts).
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use crate::sim::{BodyState, LineSegment};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct LineVertex {
+    pub position: [f32; 3],
+    pub color: [f32; 4],
+}
+
+/// Overlay colours (gamma-encoded RGB, as they appear on screen). The tests look for them.
+pub const AABB_COLOR: [f32; 3] = [1.0, 0.85, 0.1];
+pub const VELOCITY_COLOR: [f32; 3] = [0.1, 0.9, 1.0];
+const GRID_COLOR: [f32; 4] = [0.35, 0.38, 0.42, 0.6];
+
+/// Grid half-size (m) and spacing: enough to ground every built-in scene.
+const GRID_HALF: i32 = 12;
+/// Slightly below y = 0 so that floors whose top is at 0 hide it instead of flickering.
+const GRID_Y: f32 = -0.02;
+
+#[derive(Default)]
+pub struct LineList {
+    pub vertices: Vec<LineVertex>,
+}
+
+impl LineList {
+    pub fn segment(&mut self, from: Vec3, to: Vec3, color: [f32; 4]) {
+        self.vertices.push(LineVertex {
+            position: from.into(),
+            color,
+        });
+        self.vertices.push(LineVertex {
+            position: to.into(),
+            color,
+        });
+    }
+
+    pub fn grid(&mut self) {
+        let extent = GRID_HALF as f32;
+        for i in -GRID_HALF..=GRID_HALF {
+            let t = i as f32;
+            self.segment(
+                Vec3::new(t, GRID_Y, -extent),
+                Vec3::new(t, GRID_Y, extent),
+                GRID_COLOR,
+            );
+            self.segment(
+                Vec3::new(-extent, GRID_Y, t),
+                Vec3::new(extent, GRID_Y, t),
+                GRID_COLOR,
+            );
+        }
+    }
+
+    /// The twelve edges of an axis-aligned box.
+    pub fn aabb(&mut self, min: Vec3, max: Vec3, color: [f32; 3]) {
+        let color = [color[0], color[1], color[2], 1.0];
+        let corner = |i: usize| {
+            Vec3::new(
+                if i & 1 == 0 { min.x } else { max.x },
+                if i & 2 == 0 { min.y } else { max.y },
+                if i & 4 == 0 { min.z } else { max.z },
+            )
+        };
+        for i in 0..8 {
+            for bit in [1, 2, 4] {
+                if i & bit == 0 {
+                    self.segment(corner(i), corner(i | bit), color);
+                }
+            }
+        }
+    }
+
+    /// An arrow for a body's velocity, from its centre of mass, 0.25 s of travel long.
+    pub fn velocity(&mut self, body: &BodyState) {
+        let color = [VELOCITY_COLOR[0], VELOCITY_COLOR[1], VELOCITY_COLOR[2], 1.0];
+        let from = body.center_of_mass;
+        let arrow = body.velocity * 0.25;
+        if arrow.length_squared() < 1e-6 {
+            return;
+        }
+        let to = from + arrow;
+        self.segment(from, to, color);
+        // Two short barbs in the plane of the arrow and the world up (or x) axis.
+        let side = arrow.cross(Vec3::Y).try_normalize().unwrap_or(Vec3::X);
+        let back = -arrow.normalize() * (0.2 * arrow.length()).min(0.3);
+        for s in [-1.0, 1.0] {
+            self.segment(to, to + back + side * back.length() * 0.5 * s, color);
+        }
+    }
+
+    pub fn segments(&mut self, segments: &[LineSegment]) {
+        for s in segments {
+            self.segment(s.from, s.to, [s.color[0], s.color[1], s.color[2], 1.0]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn aabb_has_twelve_edges_on_the_box() {
+        let mut lines = LineList::default();
+        lines.aabb(Vec3::ZERO, Vec3::ONE, AABB_COLOR);
+        assert_eq!(lines.vertices.len(), 24);
+        for pair in lines.vertices.chunks(2) {
+            let d = Vec3::from(pair[1].position) - Vec3::from(pair[0].position);
+            assert!((d.length() - 1.0).abs() < 1e-6);
+        }
+    }
+}

@@ -1,0 +1,69 @@
+//! What the viewer can ask of the simulation. Commands are applied between two steps, in the
+//! order they were sent.
+
+use glam::DVec3;
+
+use crate::physics::Integrator;
+
+/// The primitive a spawn button creates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpawnKind {
+    Sphere,
+    Box,
+    Capsule,
+    Cylinder,
+}
+
+impl SpawnKind {
+    pub const ALL: [SpawnKind; 4] = [
+        SpawnKind::Sphere,
+        SpawnKind::Box,
+        SpawnKind::Capsule,
+        SpawnKind::Cylinder,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SpawnKind::Sphere => "sphere",
+            SpawnKind::Box => "box",
+            SpawnKind::Capsule => "capsule",
+            SpawnKind::Cylinder => "cylinder",
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Command {
+    /// Stops or restarts the clock; stepping once still works while paused.
+    SetPaused(bool),
+    /// Advances exactly one fixed step (meant for use while paused).
+    StepOnce,
+    /// Rebuilds the current scene from scratch.
+    Reset,
+    /// Replaces the world by a named scene (see `scenes::SCENE_NAMES`).
+    LoadScene(String),
+    /// Replaces every gravity field by this acceleration (m/s²).
+    SetGravity(DVec3),
+    /// Sets the restitution of every body, and of bodies spawned later.
+    SetRestitution(f64),
+    /// Sets the friction coefficient of every body, and of bodies spawned later.
+    SetFriction(f64),
+    /// Fixed step, s.
+    SetDt(f64),
+    /// Simulated seconds per wall-clock second.
+    SetTimeScale(f64),
+    SetIntegrator(Integrator),
+    Spawn {
+        kind: SpawnKind,
+        position: DVec3,
+        velocity: DVec3,
+    },
+    /// An impulse (N·s) at a world point on body `body` (index into the snapshot's bodies).
+    ApplyImpulse {
+        body: usize,
+        impulse: DVec3,
+        point: DVec3,
+    },
+    /// Ends the thread.
+    Quit,
+}

@@ -1,0 +1,491 @@
+//! A world together with the run settings the viewer controls, advanced one fixed step at a
+//! time. No threads here: the thread in `thread.rs` drives it, tests and headless renders call
+//! it directly.
+
+use std::collections::VecDeque;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use glam::{DQuat, DVec3};
+
+use crate::physics::{BodyDesc, BodyId, EnvironmentForce, Material, RigidBody, Shape, World};
+use crate::sim::command::{Command, SpawnKind};
+use crate::sim::scenes::{self, CameraHint};
+use crate::sim::snapshot::{
+    BodyPose, BodyState, Counters, HistorySample, ShapeTable, SimSettings, Snapshot,
+};
+
+/// Simulated seconds between two plotted samples, and how many are kept (20 s of history).
+const HISTORY_INTERVAL: f64 = 1.0 / 30.0;
+const HISTORY_LEN: usize = 600;
+
+/// Wall time over which the step rate and step cost are averaged: short enough to show
+/// within a fraction of a second of starting.
+const RATE_WINDOW: Duration = Duration::from_millis(250);
+
+/// Bounds on the user-set step and time scale: beyond them the fixed-dt loop cannot keep up
+/// or the integrators lose their accuracy.
+const DT_RANGE: (f64, f64) = (1e-4, 0.05);
+const TIME_SCALE_RANGE: (f64, f64) = (0.0, 10.0);
+
+pub struct Simulation {
+    scene: String,
+    camera: CameraHint,
+    world: World,
+    settings: SimSettings,
+    world_generation: u64,
+    shapes: ShapeTable,
+    shape_ids: Vec<u32>,
+    previous: Vec<BodyPose>,
+    history: VecDeque<HistorySample>,
+    rate: RateMeter,
+    /// The last command that could not be applied, shown by the UI.
+    message: Option<String>,
+}
+
+impl Simulation {
+    pub fn new(scene: &str) -> Result<Simulation, String> {
+        let setup = scenes::build(scene)?;
+        let settings = SimSettings {
+            dt: 1.0 / 120.0,
+            time_scale: 1.0,
+            paused: false,
+            gravity: DVec3::ZERO,
+            integrator: setup.world.settings.integrator,
+            restitution: Material::default().restitution,
+            friction: Material::default().friction,
+        };
+        let mut sim = Simulation {
+            scene: String::new(),
+            camera: setup.camera,
+            world: World::default(),
+            settings,
+            world_generation: 0,
+            shapes: ShapeTable::default(),
+            shape_ids: Vec::new(),
+            previous: Vec::new(),
+            history: VecDeque::new(),
+            rate: RateMeter::default(),
+            message: None,
+        };
+        sim.install(scene, setup);
+        Ok(sim)
+    }
+
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    pub fn settings(&self) -> &SimSettings {
+        &self.settings
+    }
+
+    /// Applies one command; returns false for `Quit`.
+    pub fn apply(&mut self, command: Command) -> bool {
+        match command {
+            Command::SetPaused(paused) => self.settings.paused = paused,
+            Command::StepOnce => self.step(),
+            Command::Reset => self.load(&self.scene.clone()),
+            Command::LoadScene(name) => self.load(&name),
+            Command::SetGravity(g) => self.set_gravity(g),
+            Command::SetRestitution(e) => {
+                self.set_material(e.clamp(0.0, 1.0), self.settings.friction)
+            }
+            Command::SetFriction(mu) => self.set_material(self.settings.restitution, mu.max(0.0)),
+            Command::SetDt(dt) => self.settings.dt = dt.clamp(DT_RANGE.0, DT_RANGE.1),
+            Command::SetTimeScale(s) => {
+                self.settings.time_scale = s.clamp(TIME_SCALE_RANGE.0, TIME_SCALE_RANGE.1)
+            }
+            Command::SetIntegrator(integrator) => {
+                self.settings.integrator = integrator;
+                self.world.settings.integrator = integrator;
+            }
+            Command::Spawn {
+                kind,
+                position,
+                velocity,
+            } => self.spawn(kind, position, velocity),
+            Command::ApplyImpulse {
+                body,
+                impulse,
+                point,
+            } => self.apply_impulse(body, impulse, point),
+            Command::Quit => return false,
+        }
+        true
+    }
+
+    /// One fixed step of `settings.dt`.
+    pub fn step(&mut self) {
+        self.previous = self.world.bodies().iter().map(pose_of).collect();
+        let started = Instant::now();
+        self.world.step(self.settings.dt);
+        self.rate.record(started.elapsed());
+        self.sample_history();
+    }
+
+    /// Copies the state out for the renderer and UI. `step_interval` is the wall time one
+    /// step stands for at the current time scale.
+    pub fn snapshot(&self, published_at: Instant) -> Snapshot {
+        let bodies = self
+            .world
+            .bodies()
+            .iter()
+            .enumerate()
+            .map(|(i, body)| body_state(body, self.previous[i], self.shape_ids[i]))
+            .collect();
+        let step_interval = if self.settings.time_scale > 0.0 {
+            self.settings.dt / self.settings.time_scale
+        } else {
+            0.0
+        };
+        Snapshot {
+            scene: self.scene.clone(),
+            world_generation: self.world_generation,
+            camera: self.camera,
+            bodies,
+            shapes: self.shapes.clone(),
+            lines: Vec::new(),
+            counters: self.counters(),
+            history: self.history.iter().copied().collect(),
+            settings: self.settings,
+            message: self.message.clone(),
+            published_at,
+            step_interval,
+        }
+    }
+
+    fn counters(&self) -> Counters {
+        let totals = self.world.totals();
+        Counters {
+            sim_time: self.world.time(),
+            steps: self.world.step_count(),
+            step_rate: self.rate.steps_per_second,
+            step_wall_time: self.rate.mean_step,
+            bodies: self.world.bodies().len(),
+            kinetic_energy: totals.kinetic_energy,
+            potential_energy: totals.potential_energy,
+            linear_momentum: totals.linear_momentum.length(),
+            angular_momentum: totals.angular_momentum.length(),
+        }
+    }
+
+    /// Replaces the world by a scene. Run settings (dt, time scale, pause, integrator) carry
+    /// over; world settings (gravity, materials) come from the scene.
+    fn load(&mut self, name: &str) {
+        match scenes::build(name) {
+            Ok(setup) => self.install(name, setup),
+            Err(e) => self.message = Some(e),
+        }
+    }
+
+    fn install(&mut self, name: &str, setup: scenes::SceneSetup) {
+        self.scene = name.to_string();
+        self.camera = setup.camera;
+        self.world = setup.world;
+        self.world.settings.integrator = self.settings.integrator;
+        self.settings.gravity = gravity_of(&self.world);
+        if let Some(body) = self.world.bodies().iter().find(|b| b.is_dynamic()) {
+            self.settings.restitution = body.material.restitution;
+            self.settings.friction = body.material.friction;
+        }
+        self.world_generation += 1;
+        self.shapes = ShapeTable {
+            generation: self.shapes.generation + 1,
+            shapes: Arc::new(Vec::new()),
+        };
+        self.shape_ids.clear();
+        self.previous.clear();
+        for i in 0..self.world.bodies().len() {
+            self.track_body(i);
+        }
+        self.history.clear();
+        self.message = None;
+    }
+
+    /// Registers body `index` in the shape table and gives it a previous pose.
+    fn track_body(&mut self, index: usize) {
+        let body = &self.world.bodies()[index];
+        let id = match self.shapes.shapes.iter().position(|s| *s == body.shape) {
+            Some(id) => id,
+            None => {
+                Arc::make_mut(&mut self.shapes.shapes).push(body.shape.clone());
+                self.shapes.generation += 1;
+                self.shapes.shapes.len() - 1
+            }
+        };
+        self.shape_ids.push(id as u32);
+        self.previous.push(pose_of(body));
+    }
+
+    fn set_gravity(&mut self, acceleration: DVec3) {
+        self.world
+            .forces
+            .retain(|f| !matches!(f, EnvironmentForce::Gravity { .. }));
+        self.world
+            .forces
+            .push(EnvironmentForce::Gravity { acceleration });
+        self.settings.gravity = acceleration;
+    }
+
+    fn set_material(&mut self, restitution: f64, friction: f64) {
+        self.settings.restitution = restitution;
+        self.settings.friction = friction;
+        for id in self.world.body_ids() {
+            let material = &mut self.world.body_mut(id).material;
+            material.restitution = restitution;
+            material.friction = friction;
+        }
+    }
+
+    fn spawn(&mut self, kind: SpawnKind, position: DVec3, velocity: DVec3) {
+        let material = Material {
+            restitution: self.settings.restitution,
+            friction: self.settings.friction,
+            ..Material::default()
+        };
+        // A small tilt and spin so that spawned bodies do not land perfectly flat.
+        let desc = BodyDesc::dynamic(spawn_shape(kind))
+            .named(kind.name())
+            .at(position)
+            .rotated(DQuat::from_rotation_z(0.3) * DQuat::from_rotation_x(0.2))
+            .with_velocity(velocity)
+            .with_angular_velocity(DVec3::new(0.5, 1.0, 0.0))
+            .with_material(material);
+        match self.world.add_body(desc) {
+            Ok(id) => self.track_body(id.index()),
+            Err(e) => self.message = Some(e.to_string()),
+        }
+    }
+
+    fn apply_impulse(&mut self, index: usize, impulse: DVec3, point: DVec3) {
+        if index >= self.world.bodies().len() || !impulse.is_finite() || !point.is_finite() {
+            return;
+        }
+        let body = self.world.body_mut(BodyId(index as u32));
+        if body.is_dynamic() {
+            body.apply_impulse_at(impulse, point);
+        }
+    }
+
+    fn sample_history(&mut self) {
+        let time = self.world.time();
+        if let Some(last) = self.history.back()
+            && time - last.time < HISTORY_INTERVAL
+        {
+            return;
+        }
+        let c = self.counters();
+        self.history.push_back(HistorySample {
+            time,
+            kinetic_energy: c.kinetic_energy,
+            potential_energy: c.potential_energy,
+            linear_momentum: c.linear_momentum,
+            angular_momentum: c.angular_momentum,
+        });
+        if self.history.len() > HISTORY_LEN {
+            self.history.pop_front();
+        }
+    }
+}
+
+fn spawn_shape(kind: SpawnKind) -> Shape {
+    match kind {
+        SpawnKind::Sphere => Shape::sphere(0.3),
+        SpawnKind::Box => Shape::cuboid(DVec3::splat(0.3)),
+        SpawnKind::Capsule => Shape::capsule(0.3, 0.2),
+        SpawnKind::Cylinder => Shape::cylinder(0.25, 0.3),
+    }
+}
+
+/// The first gravity field of the world, or zero.
+fn gravity_of(world: &World) -> DVec3 {
+    world
+        .forces
+        .iter()
+        .find_map(|f| match f {
+            EnvironmentForce::Gravity { acceleration } => Some(*acceleration),
+            _ => None,
+        })
+        .unwrap_or(DVec3::ZERO)
+}
+
+fn pose_of(body: &RigidBody) -> BodyPose {
+    BodyPose {
+        position: body.shape_origin().as_vec3(),
+        rotation: body.rotation().as_quat(),
+    }
+}
+
+fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32) -> BodyState {
+    let min = DVec3::new(
+        body.world_support(-DVec3::X).x,
+        body.world_support(-DVec3::Y).y,
+        body.world_support(-DVec3::Z).z,
+    );
+    let max = DVec3::new(
+        body.world_support(DVec3::X).x,
+        body.world_support(DVec3::Y).y,
+        body.world_support(DVec3::Z).z,
+    );
+    BodyState {
+        pose: pose_of(body),
+        previous,
+        shape_id,
+        aabb: (min.as_vec3(), max.as_vec3()),
+        bounding_radius: body.shape.bounding_radius() as f32,
+        center_of_mass: body.position.as_vec3(),
+        mass: if body.is_dynamic() {
+            body.mass() as f32
+        } else {
+            0.0
+        },
+        is_dynamic: body.is_dynamic(),
+        sleeping: false,
+        velocity: body.velocity().as_vec3(),
+        angular_velocity: body.angular_velocity().as_vec3(),
+    }
+}
+
+/// Step rate and mean step cost over windows of `RATE_WINDOW` wall-clock time.
+#[derive(Default)]
+struct RateMeter {
+    window_start: Option<Instant>,
+    steps: u32,
+    busy: Duration,
+    steps_per_second: f64,
+    mean_step: f64,
+}
+
+impl RateMeter {
+    fn record(&mut self, step_time: Duration) {
+        let now = Instant::now();
+        let start = *self.window_start.get_or_insert(now);
+        self.steps += 1;
+        self.busy += step_time;
+        let window = now - start;
+        if window >= RATE_WINDOW {
+            self.steps_per_second = self.steps as f64 / window.as_secs_f64();
+            self.mean_step = self.busy.as_secs_f64() / self.steps as f64;
+            *self = RateMeter {
+                window_start: Some(now),
+                steps_per_second: self.steps_per_second,
+                mean_step: self.mean_step,
+                ..RateMeter::default()
+            };
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn step_once_advances_one_dt() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        sim.apply(Command::SetDt(0.01));
+        sim.apply(Command::StepOnce);
+        sim.apply(Command::StepOnce);
+        assert_eq!(sim.world().step_count(), 2);
+        assert!((sim.world().time() - 0.02).abs() < 1e-12);
+    }
+
+    #[test]
+    fn reset_restores_the_scene_and_keeps_run_settings() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        let start = sim.snapshot(Instant::now()).bodies[2].pose;
+        sim.apply(Command::SetDt(0.005));
+        for _ in 0..50 {
+            sim.step();
+        }
+        sim.apply(Command::Spawn {
+            kind: SpawnKind::Sphere,
+            position: DVec3::Y * 3.0,
+            velocity: DVec3::ZERO,
+        });
+        let generation = sim.snapshot(Instant::now()).world_generation;
+        sim.apply(Command::Reset);
+        let snap = sim.snapshot(Instant::now());
+        assert_eq!(snap.bodies.len(), 3);
+        assert_eq!(snap.bodies[2].pose, start);
+        assert_eq!(snap.counters.steps, 0);
+        assert_eq!(snap.settings.dt, 0.005);
+        assert!(snap.world_generation > generation);
+    }
+
+    #[test]
+    fn spawn_registers_new_shapes_once() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        let before = sim.snapshot(Instant::now()).shapes;
+        for _ in 0..2 {
+            sim.apply(Command::Spawn {
+                kind: SpawnKind::Capsule,
+                position: DVec3::new(0.0, 5.0, 0.0),
+                velocity: DVec3::X,
+            });
+        }
+        let after = sim.snapshot(Instant::now());
+        assert_eq!(after.shapes.shapes.len(), before.shapes.len() + 1);
+        assert!(after.shapes.generation > before.generation);
+        assert_eq!(after.bodies[3].shape_id, after.bodies[4].shape_id);
+        assert_eq!(after.bodies[4].velocity, glam::Vec3::X);
+    }
+
+    #[test]
+    fn gravity_and_materials_reach_the_world() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        sim.apply(Command::SetGravity(DVec3::new(0.0, -1.62, 0.0)));
+        sim.apply(Command::SetRestitution(0.9));
+        sim.apply(Command::SetFriction(0.1));
+        assert_eq!(gravity_of(sim.world()), DVec3::new(0.0, -1.62, 0.0));
+        assert!(
+            sim.world()
+                .bodies()
+                .iter()
+                .all(|b| b.material.restitution == 0.9)
+        );
+        assert!(
+            sim.world()
+                .bodies()
+                .iter()
+                .all(|b| b.material.friction == 0.1)
+        );
+        sim.apply(Command::SetDt(0.01));
+        sim.apply(Command::StepOnce);
+        let v = sim.world().bodies()[2].velocity();
+        assert!((v.y + 0.0162).abs() < 1e-9, "{v}");
+    }
+
+    #[test]
+    fn impulse_moves_only_dynamic_bodies() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        let box_centre = sim.world().bodies()[2].position;
+        sim.apply(Command::ApplyImpulse {
+            body: 2,
+            impulse: DVec3::X * 1000.0,
+            point: box_centre,
+        });
+        sim.apply(Command::ApplyImpulse {
+            body: 0,
+            impulse: DVec3::X,
+            point: DVec3::ZERO,
+        });
+        sim.apply(Command::ApplyImpulse {
+            body: 99,
+            impulse: DVec3::X,
+            point: DVec3::ZERO,
+        });
+        assert!((sim.world().bodies()[2].velocity().x - 1.0).abs() < 1e-9);
+        assert_eq!(sim.world().bodies()[0].velocity(), DVec3::ZERO);
+    }
+
+    #[test]
+    fn unknown_scene_keeps_the_world_and_reports() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        sim.apply(Command::LoadScene("nope".into()));
+        let snap = sim.snapshot(Instant::now());
+        assert_eq!(snap.scene, "falling_box");
+        assert!(snap.message.unwrap().contains("nope"));
+    }
+}

@@ -1,0 +1,170 @@
+//! What the simulation publishes after each batch of steps: plain single-precision data the
+//! renderer and UI read without touching the `World`.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::{Quat, Vec3};
+
+use crate::physics::{Integrator, Shape};
+use crate::sim::scenes::CameraHint;
+
+/// Position of the shape's own origin and its orientation: what a mesh needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyPose {
+    pub position: Vec3,
+    pub rotation: Quat,
+}
+
+impl BodyPose {
+    /// Blends two poses; `t` = 0 gives `self`, 1 gives `other`.
+    pub fn lerp(&self, other: &BodyPose, t: f32) -> BodyPose {
+        BodyPose {
+            position: self.position.lerp(other.position, t),
+            rotation: self.rotation.slerp(other.rotation, t),
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyState {
+    pub pose: BodyPose,
+    /// The pose one step earlier, to interpolate between steps.
+    pub previous: BodyPose,
+    /// Index into `ShapeTable::shapes`.
+    pub shape_id: u32,
+    /// World bounds (min, max) at `pose`.
+    pub aabb: (Vec3, Vec3),
+    /// Radius of a sphere around the shape origin that holds the body.
+    pub bounding_radius: f32,
+    pub center_of_mass: Vec3,
+    /// kg; 0 for static bodies.
+    pub mass: f32,
+    pub is_dynamic: bool,
+    /// Always false until the engine has sleeping islands.
+    pub sleeping: bool,
+    pub velocity: Vec3,
+    pub angular_velocity: Vec3,
+}
+
+/// A coloured line in world space, drawn as an overlay (contact normals, debug vectors).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineSegment {
+    pub from: Vec3,
+    pub to: Vec3,
+    pub color: [f32; 3],
+}
+
+/// The distinct shapes of the world. `generation` changes whenever the list does, so the
+/// renderer rebuilds its meshes only then.
+#[derive(Clone, Debug, Default)]
+pub struct ShapeTable {
+    pub generation: u64,
+    pub shapes: Arc<Vec<Shape>>,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Counters {
+    pub sim_time: f64,
+    pub steps: u64,
+    /// Steps per wall-clock second, averaged over the last quarter second.
+    pub step_rate: f64,
+    /// Mean wall time of one `World::step` over the same window, s.
+    pub step_wall_time: f64,
+    pub bodies: usize,
+    pub kinetic_energy: f64,
+    pub potential_energy: f64,
+    pub linear_momentum: f64,
+    pub angular_momentum: f64,
+}
+
+/// One point of the plotted history.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HistorySample {
+    pub time: f64,
+    pub kinetic_energy: f64,
+    pub potential_energy: f64,
+    pub linear_momentum: f64,
+    pub angular_momentum: f64,
+}
+
+/// The settings in force, so the UI shows what the simulation really uses.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimSettings {
+    pub dt: f64,
+    pub time_scale: f64,
+    pub paused: bool,
+    pub gravity: glam::DVec3,
+    pub integrator: Integrator,
+    pub restitution: f64,
+    pub friction: f64,
+}
+
+#[derive(Clone, Debug)]
+pub struct Snapshot {
+    pub scene: String,
+    /// Changes on every reset or scene load (the UI re-frames the camera then).
+    pub world_generation: u64,
+    pub camera: CameraHint,
+    pub bodies: Vec<BodyState>,
+    pub shapes: ShapeTable,
+    /// Overlay lines filled by the contact stage once it exists.
+    pub lines: Vec<LineSegment>,
+    pub counters: Counters,
+    pub history: Vec<HistorySample>,
+    pub settings: SimSettings,
+    /// Why the last command failed (an unknown scene, an invalid spawn), if it did.
+    pub message: Option<String>,
+    /// When the newest step was taken, and the wall time one step stands for, so a frame can
+    /// place itself between `previous` and `pose`.
+    pub published_at: Instant,
+    pub step_interval: f64,
+}
+
+impl Snapshot {
+    /// Interpolation factor for a frame drawn at `now`: 0 right after the step, 1 one step
+    /// interval later (and when paused, where the newest pose is the one to show).
+    pub fn blend_factor(&self, now: Instant) -> f32 {
+        if self.settings.paused || self.step_interval <= 0.0 {
+            return 1.0;
+        }
+        let elapsed = now
+            .saturating_duration_since(self.published_at)
+            .as_secs_f64();
+        (elapsed / self.step_interval).clamp(0.0, 1.0) as f32
+    }
+
+    /// Each body's pose interpolated at `t` (see `blend_factor`).
+    pub fn poses_at(&self, t: f32) -> Vec<BodyPose> {
+        self.bodies
+            .iter()
+            .map(|b| b.previous.lerp(&b.pose, t))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::Simulation;
+    use std::time::Duration;
+
+    #[test]
+    fn frames_blend_from_the_previous_step_to_the_newest() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        sim.step();
+        let snapshot = sim.snapshot(Instant::now());
+        let published = snapshot.published_at;
+        let half = published + Duration::from_secs_f64(snapshot.step_interval / 2.0);
+        assert_eq!(snapshot.blend_factor(published), 0.0);
+        assert!((snapshot.blend_factor(half) - 0.5).abs() < 1e-3);
+        assert_eq!(
+            snapshot.blend_factor(published + Duration::from_secs(1)),
+            1.0
+        );
+        let falling = &snapshot.bodies[2];
+        let y = snapshot.poses_at(0.5)[2].position.y;
+        let midway = (falling.previous.position.y + falling.pose.position.y) / 2.0;
+        assert!((y - midway).abs() < 1e-6);
+    }
+}

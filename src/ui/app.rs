@@ -1,0 +1,396 @@
+//! The event loop: it owns the simulation handle, the window and the camera, turns mouse and
+//! keyboard input into camera moves and simulation commands, and draws a frame per redraw.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::Vec2;
+use winit::application::ApplicationHandler;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, NamedKey};
+use winit::window::{Window, WindowId};
+
+use crate::render::{FrameInput, OrbitCamera, Ray, Viewport};
+use crate::sim::snapshot::BodyPose;
+use crate::sim::{CameraHint, Command, SimHandle, Snapshot};
+use crate::ui::display::{Display, UiFrame};
+use crate::ui::drag::Drag;
+use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel};
+use crate::ui::picking::{self, Pick};
+
+pub struct AppOptions {
+    pub scene: String,
+    /// Close after this many seconds.
+    pub exit_after: Option<f64>,
+    /// Save the last frame here before closing.
+    pub screenshot: Option<PathBuf>,
+}
+
+/// Opens the viewer window and runs until it is closed (or `exit_after` passes).
+pub fn run(options: AppOptions) -> Result<(), String> {
+    let sim = SimHandle::spawn(&options.scene)?;
+    let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e}"))?;
+    // Redraw continuously: the simulation moves whether or not there is input.
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let mut app = App::new(options, sim);
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| format!("event loop: {e}"))?;
+    app.result
+}
+
+/// Mouse state between events: where the cursor is and what a held button does.
+#[derive(Default)]
+struct Mouse {
+    /// Physical pixels from the window's top-left corner.
+    position: Option<Vec2>,
+    orbiting: bool,
+    panning: bool,
+}
+
+struct App {
+    options: AppOptions,
+    sim: SimHandle,
+    display: Option<Display>,
+    egui_ctx: egui::Context,
+    egui_state: Option<egui_winit::State>,
+    panel: Panel,
+    camera: OrbitCamera,
+    camera_generation: Option<u64>,
+    viewport: Viewport,
+    mouse: Mouse,
+    drag: Option<Drag>,
+    clock: FrameClock,
+    started: Instant,
+    /// The window was closed: draw one last frame (for the screenshot), then exit.
+    closing: bool,
+    result: Result<(), String>,
+}
+
+impl App {
+    fn new(options: AppOptions, sim: SimHandle) -> App {
+        let camera = OrbitCamera::from_hint(&CameraHint {
+            eye: glam::Vec3::new(0.0, 3.0, 8.0),
+            target: glam::Vec3::ZERO,
+        });
+        App {
+            options,
+            sim,
+            display: None,
+            egui_ctx: egui::Context::default(),
+            egui_state: None,
+            panel: Panel::default(),
+            camera,
+            camera_generation: None,
+            viewport: Viewport::full((1, 1)),
+            mouse: Mouse::default(),
+            drag: None,
+            clock: FrameClock::default(),
+            started: Instant::now(),
+            closing: false,
+            result: Ok(()),
+        }
+    }
+
+    fn fail(&mut self, event_loop: &ActiveEventLoop, message: String) {
+        self.result = Err(message);
+        event_loop.exit();
+    }
+
+    fn exit_due(&self) -> bool {
+        self.closing
+            || self
+                .options
+                .exit_after
+                .is_some_and(|s| self.started.elapsed().as_secs_f64() >= s)
+    }
+
+    /// The ray under the cursor, if the cursor is over the 3D view.
+    fn cursor_ray(&self) -> Option<Ray> {
+        let p = self.mouse.position?;
+        let v = self.viewport;
+        let local = p - Vec2::new(v.x, v.y);
+        let inside = local.x >= 0.0 && local.y >= 0.0 && local.x < v.width && local.y < v.height;
+        inside.then(|| self.camera.ray(local, Vec2::new(v.width, v.height)))
+    }
+
+    fn pick_under_cursor(&self, snapshot: &Snapshot, poses: &[BodyPose]) -> Option<Pick> {
+        if self.egui_ctx.is_pointer_over_egui() {
+            return None;
+        }
+        picking::pick(&self.cursor_ray()?, snapshot, poses)
+    }
+
+    fn on_mouse_button(&mut self, button: MouseButton, state: ElementState) {
+        let pressed = state == ElementState::Pressed;
+        if !pressed {
+            self.drag = None;
+            self.mouse.orbiting = false;
+            self.mouse.panning = false;
+            return;
+        }
+        if self.egui_ctx.is_pointer_over_egui() {
+            return;
+        }
+        match button {
+            MouseButton::Left => {
+                // On a dynamic body the left button pushes it; elsewhere it orbits.
+                self.drag = self.sim.latest().and_then(|snapshot| {
+                    let poses = current_poses(&snapshot);
+                    let hit = self.pick_under_cursor(&snapshot, &poses)?;
+                    snapshot.bodies[hit.body]
+                        .is_dynamic
+                        .then(|| Drag::start(&hit, &poses[hit.body]))
+                });
+                self.mouse.orbiting = self.drag.is_none();
+            }
+            MouseButton::Right | MouseButton::Middle => self.mouse.panning = true,
+            _ => {}
+        }
+    }
+
+    fn on_cursor_moved(&mut self, position: Vec2) {
+        if let Some(previous) = self.mouse.position {
+            let delta = position - previous;
+            if self.mouse.orbiting {
+                self.camera.orbit(delta);
+            }
+            if self.mouse.panning {
+                self.camera.pan(delta, self.viewport.height);
+            }
+        }
+        self.mouse.position = Some(position);
+    }
+
+    fn on_key(&mut self, key: &Key) {
+        if self.egui_ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        let paused = self.sim.latest().is_some_and(|s| s.settings.paused);
+        match key {
+            Key::Named(NamedKey::Space) => self.sim.send(Command::SetPaused(!paused)),
+            Key::Character(c) if c.as_str() == "r" => self.sim.send(Command::Reset),
+            Key::Character(c) if c.as_str() == "n" => {
+                self.sim.send(Command::SetPaused(true));
+                self.sim.send(Command::StepOnce);
+            }
+            _ => {}
+        }
+    }
+
+    /// Runs the panel, applies the drag spring and draws one frame.
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(snapshot) = self.sim.latest() else {
+            return;
+        };
+        if self.camera_generation != Some(snapshot.world_generation) {
+            self.camera = OrbitCamera::from_hint(&snapshot.camera);
+            self.camera_generation = Some(snapshot.world_generation);
+            self.drag = None;
+        }
+        let now = Instant::now();
+        let frame_dt = self.clock.tick(now);
+        let poses = snapshot.poses_at(snapshot.blend_factor(now));
+
+        let (ui_frame, mut commands) = self.run_panel(&snapshot);
+        // Only bodies the mouse can push are highlighted under the cursor.
+        let hovered = self
+            .pick_under_cursor(&snapshot, &poses)
+            .map(|p| p.body)
+            .filter(|&i| snapshot.bodies[i].is_dynamic);
+        let mut extra_lines = Vec::new();
+        if let (Some(drag), Some(ray)) = (self.drag, self.cursor_ray())
+            && let Some(body) = snapshot.bodies.get(drag.body)
+        {
+            let pose = &poses[drag.body];
+            commands.extend(drag.push(&ray, body, pose, frame_dt));
+            extra_lines.push(drag.line(&ray, pose));
+        }
+        for command in commands {
+            self.sim.send(command);
+        }
+
+        let frame = FrameInput {
+            snapshot: &snapshot,
+            poses: &poses,
+            camera: &self.camera,
+            overlays: self.panel.overlays,
+            selected: self.drag.map(|d| d.body).or(hovered),
+            extra_lines: &extra_lines,
+            viewport: self.viewport,
+        };
+        let exiting = self.exit_due();
+        let capture = exiting && self.options.screenshot.is_some();
+        let Some(display) = self.display.as_mut() else {
+            return;
+        };
+        match display.draw(&frame, ui_frame, capture) {
+            Ok(Some(image)) => {
+                let path = self.options.screenshot.clone().unwrap_or_default();
+                if let Err(e) = image.save(&path) {
+                    return self.fail(event_loop, format!("cannot save {}: {e}", path.display()));
+                }
+            }
+            Ok(None) => {}
+            Err(e) => return self.fail(event_loop, e),
+        }
+        if exiting {
+            event_loop.exit();
+        }
+    }
+
+    /// Builds the panel for this frame; also sets the 3D viewport to the space it leaves.
+    fn run_panel(&mut self, snapshot: &Snapshot) -> (UiFrame, Vec<Command>) {
+        let (Some(display), Some(state)) = (self.display.as_ref(), self.egui_state.as_mut()) else {
+            return (empty_ui_frame(), Vec::new());
+        };
+        let raw = state.take_egui_input(&display.window);
+        let stats = FrameStats {
+            frames_per_second: self.clock.rate,
+        };
+        let mut commands = Vec::new();
+        let mut panel_right = 0.0;
+        let panel = &mut self.panel;
+        let output = self.egui_ctx.run_ui(raw, |ui| {
+            let shown = egui::Panel::left("controls")
+                .resizable(false)
+                .exact_size(PANEL_WIDTH)
+                .show(ui, |ui| panel.show(ui, snapshot, stats));
+            commands = shown.inner;
+            panel_right = shown.response.rect.right();
+        });
+        state.handle_platform_output(&display.window, output.platform_output);
+        let (width, height) = display.size();
+        let x = (panel_right * output.pixels_per_point)
+            .min(width as f32 - 1.0)
+            .max(0.0);
+        self.viewport = Viewport {
+            x,
+            y: 0.0,
+            width: (width as f32 - x).max(1.0),
+            height: (height as f32).max(1.0),
+        };
+        let paint_jobs = self
+            .egui_ctx
+            .tessellate(output.shapes, output.pixels_per_point);
+        let frame = UiFrame {
+            paint_jobs,
+            textures: output.textures_delta,
+            pixels_per_point: output.pixels_per_point,
+        };
+        (frame, commands)
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.display.is_some() {
+            return;
+        }
+        let attributes = Window::default_attributes()
+            .with_title("rigid")
+            .with_inner_size(winit::dpi::LogicalSize::new(1280.0, 720.0));
+        let window = match event_loop.create_window(attributes) {
+            Ok(window) => Arc::new(window),
+            Err(e) => return self.fail(event_loop, format!("cannot create the window: {e}")),
+        };
+        let display = match Display::new(window.clone()) {
+            Ok(display) => display,
+            Err(e) => return self.fail(event_loop, e),
+        };
+        eprintln!("rigid: rendering on {}", display.describe());
+        self.egui_state = Some(egui_winit::State::new(
+            self.egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            Some(display.max_texture_side()),
+        ));
+        self.display = Some(display);
+        self.started = Instant::now();
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let (Some(display), Some(state)) = (self.display.as_mut(), self.egui_state.as_mut()) else {
+            return;
+        };
+        let consumed = state.on_window_event(&display.window, &event).consumed;
+        match event {
+            WindowEvent::CloseRequested if self.options.screenshot.is_some() => {
+                self.closing = true;
+                display.window.request_redraw();
+            }
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(_) | WindowEvent::ScaleFactorChanged { .. } => display.resize(),
+            WindowEvent::RedrawRequested => self.redraw(event_loop),
+            WindowEvent::CursorMoved { position, .. } => {
+                self.on_cursor_moved(Vec2::new(position.x as f32, position.y as f32))
+            }
+            WindowEvent::CursorLeft { .. } => self.mouse.position = None,
+            WindowEvent::MouseInput { state, button, .. } if !consumed || !state.is_pressed() => {
+                self.on_mouse_button(button, state)
+            }
+            WindowEvent::MouseWheel { delta, .. } if !self.egui_ctx.is_pointer_over_egui() => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                };
+                self.camera.zoom(steps);
+            }
+            WindowEvent::KeyboardInput { event, .. } if !consumed && event.state.is_pressed() => {
+                self.on_key(&event.logical_key)
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        match &self.display {
+            Some(display) => display.window.request_redraw(),
+            // No window to draw in (never created): the exit timer still applies.
+            None if self.exit_due() => event_loop.exit(),
+            None => {}
+        }
+    }
+}
+
+fn current_poses(snapshot: &Snapshot) -> Vec<BodyPose> {
+    snapshot.poses_at(snapshot.blend_factor(Instant::now()))
+}
+
+fn empty_ui_frame() -> UiFrame {
+    UiFrame {
+        paint_jobs: Vec::new(),
+        textures: egui::TexturesDelta::default(),
+        pixels_per_point: 1.0,
+    }
+}
+
+/// Frame timing: the last frame's duration and frames per second over quarter-second windows.
+#[derive(Default)]
+struct FrameClock {
+    last: Option<Instant>,
+    window_start: Option<Instant>,
+    frames: u32,
+    rate: f64,
+}
+
+impl FrameClock {
+    /// Marks a frame at `now`; returns the seconds since the previous one.
+    fn tick(&mut self, now: Instant) -> f32 {
+        let dt = self.last.map_or(0.0, |last| (now - last).as_secs_f32());
+        self.last = Some(now);
+        let start = *self.window_start.get_or_insert(now);
+        self.frames += 1;
+        let window = (now - start).as_secs_f64();
+        if window >= 0.25 {
+            self.rate = self.frames as f64 / window;
+            self.frames = 0;
+            self.window_start = Some(now);
+        }
+        dt
+    }
+}

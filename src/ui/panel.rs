@@ -1,0 +1,278 @@
+//! The control panel on the left: scene, time, spawning, world settings, overlays, counters
+//! and plots. It turns widget changes into simulation commands and never touches the world.
+
+use glam::DVec3;
+
+use crate::physics::Integrator;
+use crate::render::Overlays;
+use crate::sim::{Command, SCENE_NAMES, Snapshot, SpawnKind};
+use crate::ui::plots;
+
+pub const PANEL_WIDTH: f32 = 290.0;
+
+/// Rates measured on the render side.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameStats {
+    pub frames_per_second: f64,
+}
+
+/// The values the widgets edit. They are copied from the snapshot whenever the world is
+/// rebuilt (reset, scene change), so the panel always shows what the simulation uses.
+pub struct Panel {
+    pub overlays: Overlays,
+    scene: String,
+    gravity: [f64; 3],
+    restitution: f64,
+    friction: f64,
+    /// Steps per simulated second (1/dt): easier to read than milliseconds.
+    rate_hz: f64,
+    time_scale: f64,
+    integrator: Integrator,
+    synced_generation: Option<u64>,
+    spawned: u32,
+}
+
+impl Default for Panel {
+    fn default() -> Self {
+        Panel {
+            overlays: Overlays::default(),
+            scene: String::new(),
+            gravity: [0.0; 3],
+            restitution: 0.0,
+            friction: 0.0,
+            rate_hz: 120.0,
+            time_scale: 1.0,
+            integrator: Integrator::default(),
+            synced_generation: None,
+            spawned: 0,
+        }
+    }
+}
+
+impl Panel {
+    /// Draws the panel; returns the commands its widgets produced this frame.
+    pub fn show(
+        &mut self,
+        ui: &mut egui::Ui,
+        snapshot: &Snapshot,
+        stats: FrameStats,
+    ) -> Vec<Command> {
+        self.sync(snapshot);
+        let mut commands = Vec::new();
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            ui.heading("rigid");
+            self.scene_section(ui, snapshot, &mut commands);
+            ui.separator();
+            self.time_section(ui, &mut commands);
+            ui.separator();
+            self.spawn_section(ui, snapshot, &mut commands);
+            ui.separator();
+            self.world_section(ui, &mut commands);
+            ui.separator();
+            self.overlay_section(ui);
+            ui.separator();
+            counters(ui, snapshot, stats);
+            ui.separator();
+            egui::CollapsingHeader::new("Energy (J)")
+                .default_open(true)
+                .show(ui, |ui| plots::energy(ui, &snapshot.history));
+            egui::CollapsingHeader::new("Momentum (N·s, N·m·s)")
+                .default_open(true)
+                .show(ui, |ui| plots::momentum(ui, &snapshot.history));
+            if let Some(message) = &snapshot.message {
+                ui.colored_label(egui::Color32::LIGHT_RED, message);
+            }
+        });
+        commands
+    }
+
+    fn sync(&mut self, snapshot: &Snapshot) {
+        if self.synced_generation == Some(snapshot.world_generation) {
+            return;
+        }
+        let s = &snapshot.settings;
+        self.scene = snapshot.scene.clone();
+        self.gravity = s.gravity.to_array();
+        self.restitution = s.restitution;
+        self.friction = s.friction;
+        self.rate_hz = 1.0 / s.dt;
+        self.time_scale = s.time_scale;
+        self.integrator = s.integrator;
+        self.synced_generation = Some(snapshot.world_generation);
+    }
+
+    fn scene_section(&mut self, ui: &mut egui::Ui, snapshot: &Snapshot, out: &mut Vec<Command>) {
+        egui::ComboBox::from_label("scene")
+            .selected_text(self.scene.as_str())
+            .show_ui(ui, |ui| {
+                for name in SCENE_NAMES {
+                    if ui.selectable_label(self.scene == *name, *name).clicked() {
+                        self.scene = name.to_string();
+                        out.push(Command::LoadScene(name.to_string()));
+                    }
+                }
+            });
+        ui.horizontal(|ui| {
+            let paused = snapshot.settings.paused;
+            if ui.button(if paused { "Run" } else { "Pause" }).clicked() {
+                out.push(Command::SetPaused(!paused));
+            }
+            if ui.button("Step").clicked() {
+                out.push(Command::SetPaused(true));
+                out.push(Command::StepOnce);
+            }
+            if ui.button("Reset").clicked() {
+                out.push(Command::Reset);
+            }
+        });
+    }
+
+    fn time_section(&mut self, ui: &mut egui::Ui, out: &mut Vec<Command>) {
+        let scale = egui::Slider::new(&mut self.time_scale, 0.0..=4.0).text("time scale");
+        if ui.add(scale).changed() {
+            out.push(Command::SetTimeScale(self.time_scale));
+        }
+        let rate = egui::Slider::new(&mut self.rate_hz, 30.0..=1000.0)
+            .logarithmic(true)
+            .suffix(" Hz")
+            .text("step rate (1/dt)");
+        if ui.add(rate).changed() {
+            out.push(Command::SetDt(1.0 / self.rate_hz));
+        }
+        egui::ComboBox::from_label("integrator")
+            .selected_text(self.integrator.name())
+            .show_ui(ui, |ui| {
+                for integrator in Integrator::ALL {
+                    let selected = self.integrator == integrator;
+                    if ui.selectable_label(selected, integrator.name()).clicked() {
+                        self.integrator = integrator;
+                        out.push(Command::SetIntegrator(integrator));
+                    }
+                }
+            });
+    }
+
+    fn spawn_section(&mut self, ui: &mut egui::Ui, snapshot: &Snapshot, out: &mut Vec<Command>) {
+        ui.label("Spawn above the scene");
+        ui.horizontal_wrapped(|ui| {
+            for kind in SpawnKind::ALL {
+                if ui.button(kind.name()).clicked() {
+                    out.push(Command::Spawn {
+                        kind,
+                        position: spawn_point(snapshot, self.spawned),
+                        velocity: DVec3::ZERO,
+                    });
+                    self.spawned += 1;
+                }
+            }
+        });
+    }
+
+    fn world_section(&mut self, ui: &mut egui::Ui, out: &mut Vec<Command>) {
+        let mut changed = false;
+        ui.horizontal(|ui| {
+            ui.label("gravity");
+            for (name, g) in [("Earth", -9.81), ("Moon", -1.62), ("Zero", 0.0)] {
+                if ui.button(name).clicked() {
+                    self.gravity = [0.0, g, 0.0];
+                    changed = true;
+                }
+            }
+        });
+        ui.horizontal(|ui| {
+            for (value, axis) in self.gravity.iter_mut().zip(["x", "y", "z"]) {
+                let drag = egui::DragValue::new(value)
+                    .speed(0.05)
+                    .range(-50.0..=50.0)
+                    .fixed_decimals(2)
+                    .prefix(format!("{axis} "));
+                changed |= ui.add(drag).changed();
+            }
+            ui.label("m/s²");
+        });
+        if changed {
+            out.push(Command::SetGravity(DVec3::from_array(self.gravity)));
+        }
+        let e = egui::Slider::new(&mut self.restitution, 0.0..=1.0).text("restitution");
+        if ui.add(e).changed() {
+            out.push(Command::SetRestitution(self.restitution));
+        }
+        let mu = egui::Slider::new(&mut self.friction, 0.0..=2.0).text("friction");
+        if ui.add(mu).changed() {
+            out.push(Command::SetFriction(self.friction));
+        }
+    }
+
+    fn overlay_section(&mut self, ui: &mut egui::Ui) {
+        let o = &mut self.overlays;
+        ui.horizontal_wrapped(|ui| {
+            ui.checkbox(&mut o.grid, "grid");
+            ui.checkbox(&mut o.aabbs, "AABBs");
+            ui.checkbox(&mut o.velocities, "velocities");
+            ui.checkbox(&mut o.contacts, "contacts");
+            ui.checkbox(&mut o.sleep_tint, "sleeping colour");
+        });
+    }
+}
+
+fn counters(ui: &mut egui::Ui, snapshot: &Snapshot, stats: FrameStats) {
+    let c = &snapshot.counters;
+    let pairs = [
+        [
+            ("bodies", c.bodies.to_string()),
+            ("sim time", format!("{:.2} s", c.sim_time)),
+        ],
+        [
+            ("sim rate", format!("{:.0}/s", c.step_rate)),
+            ("step", format!("{:.3} ms", c.step_wall_time * 1e3)),
+        ],
+    ];
+    let singles = [
+        ("render", format!("{:.0} fps", stats.frames_per_second)),
+        (
+            "energy",
+            format!("{:.2} J", c.kinetic_energy + c.potential_energy),
+        ),
+        ("|p|", format!("{:.3} N·s", c.linear_momentum)),
+        ("|L|", format!("{:.3} N·m·s", c.angular_momentum)),
+    ];
+    // Short counters two to a row keep the plots in view on a 720-pixel window.
+    egui::Grid::new("short counters")
+        .num_columns(4)
+        .show(ui, |ui| {
+            for pair in &pairs {
+                for (name, value) in pair {
+                    ui.label(*name);
+                    ui.monospace(value);
+                }
+                ui.end_row();
+            }
+        });
+    egui::Grid::new("long counters")
+        .num_columns(2)
+        .show(ui, |ui| {
+            for (name, value) in &singles {
+                ui.label(*name);
+                ui.monospace(value);
+                ui.end_row();
+            }
+        });
+}
+
+/// A point 1.5 m above the highest body, near the scene's centre; successive spawns are
+/// spread on a small circle so they do not land on one another.
+fn spawn_point(snapshot: &Snapshot, count: u32) -> DVec3 {
+    let top = snapshot
+        .bodies
+        .iter()
+        .map(|b| b.aabb.1.y)
+        .fold(0.0f32, f32::max);
+    let target = snapshot.camera.target;
+    let angle = count as f32 * 2.4;
+    let spread = 0.4 * (count % 5) as f32 / 4.0;
+    DVec3::new(
+        (target.x + spread * angle.cos()) as f64,
+        (top + 1.5) as f64,
+        (target.z + spread * angle.sin()) as f64,
+    )
+}

@@ -1,0 +1,255 @@
+//! Offscreen render tests: the built-in scenes against golden images, and checks that fail
+//! when something that should be drawn is not (a body, the AABB overlay, the sleep colour).
+//!
+//! Needs a graphics adapter; without a GPU, Mesa's lavapipe (`mesa-vulkan-drivers`) or
+//! llvmpipe (GL) does. With no adapter at all the tests fail, they never pass silently.
+//!
+//! Regenerate the goldens with `UPDATE_GOLDEN=1 cargo test --test render`.
+
+#![cfg(feature = "viewer")]
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+use image::{Rgba, RgbaImage};
+use rigid::render::lines::AABB_COLOR;
+use rigid::render::renderer::SLEEP_COLOR;
+use rigid::render::{Gpu, OrbitCamera, Overlays, headless};
+use rigid::sim::Snapshot;
+
+const SIZE: (u32, u32) = (480, 320);
+/// A pixel differs from the golden when a channel differs by more than this (of 255):
+/// absorbs rounding between drivers (lavapipe vs llvmpipe GL) on edges and gradients.
+const CHANNEL_TOLERANCE: u8 = 24;
+/// An image matches its golden when at most this fraction of its pixels differ.
+const MAX_DIFFERING_FRACTION: f64 = 0.005;
+
+fn gpu() -> Gpu {
+    Gpu::offscreen().unwrap_or_else(|e| panic!("render tests need a graphics adapter: {e}"))
+}
+
+fn render(gpu: &Gpu, snapshot: &Snapshot, overlays: Overlays) -> RgbaImage {
+    headless::render_snapshot(gpu, snapshot, overlays, SIZE).expect("offscreen render")
+}
+
+fn simulate(scene: &str, steps: u32) -> Snapshot {
+    headless::simulate(scene, steps).expect("scene builds")
+}
+
+fn differs(a: &Rgba<u8>, b: &Rgba<u8>) -> bool {
+    a.0.iter()
+        .zip(b.0)
+        .any(|(x, y)| x.abs_diff(y) > CHANNEL_TOLERANCE)
+}
+
+/// Pixels (x, y) where the two images differ beyond the tolerance.
+fn differing_pixels(a: &RgbaImage, b: &RgbaImage) -> Vec<(u32, u32)> {
+    assert_eq!(a.dimensions(), b.dimensions());
+    a.enumerate_pixels()
+        .filter(|(x, y, p)| differs(p, b.get_pixel(*x, *y)))
+        .map(|(x, y, _)| (x, y))
+        .collect()
+}
+
+fn golden_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("tests/golden/{name}.png"))
+}
+
+/// Compares with `tests/golden/NAME.png`, or writes it when UPDATE_GOLDEN is set. On a
+/// mismatch the rendered image is kept next to the test binary's temp dir for inspection.
+fn check_golden(name: &str, image: &RgbaImage) {
+    let path = golden_path(name);
+    if std::env::var_os("UPDATE_GOLDEN").is_some() {
+        image.save(&path).expect("write golden");
+        return;
+    }
+    let golden = image::open(&path)
+        .unwrap_or_else(|e| {
+            panic!(
+                "missing golden {}: {e}; run with UPDATE_GOLDEN=1",
+                path.display()
+            )
+        })
+        .to_rgba8();
+    assert_eq!(golden.dimensions(), image.dimensions(), "{name}: size");
+    let differing = differing_pixels(&golden, image).len();
+    let fraction = differing as f64 / (SIZE.0 * SIZE.1) as f64;
+    if fraction > MAX_DIFFERING_FRACTION {
+        let actual = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}.actual.png"));
+        image.save(&actual).expect("write actual image");
+        panic!(
+            "{name}: {differing} pixels ({:.2} %) differ from {} by more than {CHANNEL_TOLERANCE}/255 \
+             (allowed {:.2} %); rendered image saved to {}",
+            fraction * 100.0,
+            path.display(),
+            MAX_DIFFERING_FRACTION * 100.0,
+            actual.display()
+        );
+    }
+}
+
+#[test]
+fn falling_box_matches_golden() {
+    let gpu = gpu();
+    check_golden(
+        "falling_box",
+        &render(&gpu, &simulate("falling_box", 30), Overlays::default()),
+    );
+}
+
+#[test]
+fn pachinko_matches_golden() {
+    let gpu = gpu();
+    check_golden(
+        "pachinko",
+        &render(&gpu, &simulate("pachinko", 30), Overlays::default()),
+    );
+}
+
+#[test]
+fn shapes_match_golden() {
+    let gpu = gpu();
+    check_golden(
+        "shapes",
+        &render(&gpu, &simulate("shapes", 30), Overlays::default()),
+    );
+}
+
+#[test]
+fn overlays_match_golden() {
+    let gpu = gpu();
+    let overlays = Overlays {
+        aabbs: true,
+        velocities: true,
+        ..Overlays::default()
+    };
+    check_golden(
+        "falling_box_overlays",
+        &render(&gpu, &simulate("falling_box", 30), overlays),
+    );
+}
+
+/// The screen rectangle (min, max pixel) covering body `index`'s bounding box, widened by a
+/// few pixels for antialiased edges.
+fn screen_region(snapshot: &Snapshot, index: usize) -> ((f32, f32), (f32, f32)) {
+    let camera = OrbitCamera::from_hint(&snapshot.camera);
+    let view_proj = camera.view_projection(SIZE.0 as f32 / SIZE.1 as f32);
+    let (min, max) = snapshot.bodies[index].aabb;
+    let mut lo = (f32::MAX, f32::MAX);
+    let mut hi = (f32::MIN, f32::MIN);
+    for i in 0..8 {
+        let corner = Vec3::new(
+            if i & 1 == 0 { min.x } else { max.x },
+            if i & 2 == 0 { min.y } else { max.y },
+            if i & 4 == 0 { min.z } else { max.z },
+        );
+        let ndc = view_proj.project_point3(corner);
+        let x = (ndc.x + 1.0) / 2.0 * SIZE.0 as f32;
+        let y = (1.0 - ndc.y) / 2.0 * SIZE.1 as f32;
+        lo = (lo.0.min(x), lo.1.min(y));
+        hi = (hi.0.max(x), hi.1.max(y));
+    }
+    ((lo.0 - 3.0, lo.1 - 3.0), (hi.0 + 3.0, hi.1 + 3.0))
+}
+
+fn inside(region: ((f32, f32), (f32, f32)), (x, y): (u32, u32)) -> bool {
+    let (lo, hi) = region;
+    (lo.0..=hi.0).contains(&(x as f32)) && (lo.1..=hi.1).contains(&(y as f32))
+}
+
+#[test]
+fn removing_a_body_changes_exactly_its_region() {
+    let gpu = gpu();
+    let snapshot = simulate("falling_box", 30);
+    let full = render(&gpu, &snapshot, Overlays::default());
+    let box_index = 2;
+    let region = screen_region(&snapshot, box_index);
+    let mut without = snapshot.clone();
+    without.bodies.remove(box_index);
+    let missing = render(&gpu, &without, Overlays::default());
+    let changed = differing_pixels(&full, &missing);
+    assert!(
+        changed.len() > 1000,
+        "only {} pixels changed",
+        changed.len()
+    );
+    let outside = changed.iter().filter(|p| !inside(region, **p)).count();
+    assert_eq!(
+        outside, 0,
+        "{outside} changed pixels lie outside the body's screen region"
+    );
+}
+
+/// Pixels within 40/255 per channel of a gamma-encoded overlay colour.
+fn count_near(image: &RgbaImage, color: [f32; 3]) -> usize {
+    let target = color.map(|c| (c * 255.0).round() as u8);
+    image
+        .pixels()
+        .filter(|p| (0..3).all(|k| p.0[k].abs_diff(target[k]) <= 40))
+        .count()
+}
+
+#[test]
+fn aabb_overlay_draws_its_colour_only_when_on() {
+    let gpu = gpu();
+    let snapshot = simulate("falling_box", 30);
+    let on = Overlays {
+        aabbs: true,
+        ..Overlays::default()
+    };
+    let off = Overlays {
+        aabbs: false,
+        ..Overlays::default()
+    };
+    let with = count_near(&render(&gpu, &snapshot, on), AABB_COLOR);
+    let without = count_near(&render(&gpu, &snapshot, off), AABB_COLOR);
+    assert!(
+        with > 500,
+        "AABB overlay drew only {with} pixels of its colour"
+    );
+    assert!(
+        without < 20,
+        "{without} AABB-coloured pixels with the overlay off"
+    );
+}
+
+/// Pixels in `region` whose hue is the sleep colour's: blue well above red and green (the
+/// sky is bluish but far less saturated, the body palette has no blue).
+fn count_sleep_hue(image: &RgbaImage, region: ((f32, f32), (f32, f32))) -> usize {
+    const { assert!(SLEEP_COLOR[2] > SLEEP_COLOR[0] + 0.5 && SLEEP_COLOR[2] > SLEEP_COLOR[1] + 0.5) };
+    image
+        .enumerate_pixels()
+        .filter(|(x, y, _)| inside(region, (*x, *y)))
+        .filter(|(_, _, p)| {
+            let [r, g, b, _] = p.0.map(i32::from);
+            b > r + 70 && b > g + 70
+        })
+        .count()
+}
+
+#[test]
+fn sleeping_bodies_are_drawn_in_the_sleep_colour_only_when_on() {
+    let gpu = gpu();
+    let mut snapshot = simulate("falling_box", 30);
+    let box_index = 2;
+    snapshot.bodies[box_index].sleeping = true;
+    let region = screen_region(&snapshot, box_index);
+    let on = Overlays {
+        sleep_tint: true,
+        ..Overlays::default()
+    };
+    let off = Overlays {
+        sleep_tint: false,
+        ..Overlays::default()
+    };
+    let tinted = count_sleep_hue(&render(&gpu, &snapshot, on), region);
+    let plain = count_sleep_hue(&render(&gpu, &snapshot, off), region);
+    assert!(
+        tinted > 1000,
+        "sleeping body shows only {tinted} sleep-coloured pixels"
+    );
+    assert!(
+        plain < 20,
+        "{plain} sleep-coloured pixels with the tint off"
+    );
+}
