@@ -10,7 +10,10 @@ const DENSITY: f64 = 1200.0;
 
 fn matrix_error(actual: DMat3, expected: DMat3) -> f64 {
     let diff = (actual - expected).to_cols_array();
-    let scale = expected.to_cols_array().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = expected
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
     diff.iter().fold(0.0f64, |m, x| m.max(x.abs())) / scale
 }
 
@@ -45,13 +48,19 @@ fn check_structure(hull: &ConvexHull, tolerance: f64) {
     sorted.dedup();
     assert_eq!(sorted.len(), e, "duplicate edges");
     for face in &hull.faces {
-        assert!((face.normal.length() - 1.0).abs() < 1e-12, "normal not unit");
+        assert!(
+            (face.normal.length() - 1.0).abs() < 1e-12,
+            "normal not unit"
+        );
         let points = face_points(hull, face);
         let n = points.len();
         assert!(n >= 3);
         for (i, &p) in points.iter().enumerate() {
             let off_plane = face.normal.dot(p) - face.offset;
-            assert!(off_plane.abs() <= tolerance, "vertex off its face plane by {off_plane}");
+            assert!(
+                off_plane.abs() <= tolerance,
+                "vertex off its face plane by {off_plane}"
+            );
             // Strictly left turns about the normal: convex, counter-clockwise, no collinear
             // leftovers.
             let (next, after) = (points[(i + 1) % n], points[(i + 2) % n]);
@@ -70,14 +79,21 @@ fn assert_contains(hull: &ConvexHull, points: &[DVec3], tolerance: f64) {
     for face in &hull.faces {
         for &p in points {
             let above = face.normal.dot(p) - face.offset;
-            assert!(above <= tolerance, "input point {p} above a face by {above}");
+            assert!(
+                above <= tolerance,
+                "input point {p} above a face by {above}"
+            );
         }
     }
 }
 
 fn assert_same_props(actual: MassProperties, expected: MassProperties, tolerance: f64) {
     assert!(relative_error(actual.mass, expected.mass) <= tolerance);
-    let size = expected.inertia.to_cols_array().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let size = expected
+        .inertia
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
     let lever = (size / expected.mass).sqrt();
     assert!(
         (actual.center - expected.center).length() <= tolerance * lever,
@@ -158,6 +174,23 @@ fn cuboid_constructor_matches_the_hull_of_its_corners() {
     assert!((plus_x.offset - half.x).abs() < 1e-15);
 }
 
+/// A small xorshift generator, for reproducible clouds without dependencies.
+struct XorShift(u64);
+
+impl XorShift {
+    /// Uniform in [0, 1).
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn in_unit_cube(&mut self) -> DVec3 {
+        DVec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0
+    }
+}
+
 /// N points spread evenly over a sphere: the golden-angle (Fibonacci) spiral.
 fn fibonacci_sphere(n: usize, radius: f64) -> Vec<DVec3> {
     let golden_angle = PI * (3.0 - 5f64.sqrt());
@@ -191,7 +224,10 @@ fn fibonacci_sphere_hull_converges_to_the_sphere() {
         let volume_error = relative_error(props.mass, sphere.mass);
         let inertia_error = matrix_error(props.inertia, sphere.inertia);
         println!("N = {n}: volume error {volume_error:.3e}, inertia error {inertia_error:.3e}");
-        assert!(volume_error < previous.0 && inertia_error < previous.1, "not converging");
+        assert!(
+            volume_error < previous.0 && inertia_error < previous.1,
+            "not converging"
+        );
         // Twice the estimate above, for the spiral's less regular triangles.
         assert!(volume_error < 2.0 * 5.4 / n as f64);
         assert!(inertia_error < 2.0 * 9.1 / n as f64);
@@ -238,7 +274,10 @@ fn corner_tetrahedron_matches_its_closed_form() {
     let scale = 2.0; // every length doubled: volume × 8, inertia × 32
     let scaled: Vec<DVec3> = points.iter().map(|&p| p * scale).collect();
     let hull = ConvexHull::from_points(&scaled).unwrap();
-    assert_eq!((hull.vertices.len(), hull.faces.len(), hull.edges.len()), (4, 4, 6));
+    assert_eq!(
+        (hull.vertices.len(), hull.faces.len(), hull.edges.len()),
+        (4, 4, 6)
+    );
     check_structure(&hull, 1e-14);
     let props = hull.mass_properties(DENSITY);
     assert!(relative_error(hull.volume(), 8.0 / 6.0) < 1e-14);
@@ -263,7 +302,10 @@ fn support_reaches_the_farthest_input_point() {
         .collect::<Vec<_>>();
     let hull = ConvexHull::from_points(&points).unwrap();
     for direction in fibonacci_sphere(64, 1.0) {
-        let best = points.iter().map(|p| p.dot(direction)).fold(f64::MIN, f64::max);
+        let best = points
+            .iter()
+            .map(|p| p.dot(direction))
+            .fold(f64::MIN, f64::max);
         assert!((hull.support(direction).dot(direction) - best).abs() < 1e-14);
     }
 }
@@ -271,39 +313,100 @@ fn support_reaches_the_farthest_input_point() {
 #[test]
 fn degenerate_inputs_are_errors() {
     let three = [DVec3::ZERO, DVec3::X, DVec3::Y];
-    assert_eq!(ConvexHull::from_points(&three), Err(HullError::TooFewPoints(3)));
-    assert_eq!(ConvexHull::from_points(&[]), Err(HullError::TooFewPoints(0)));
+    assert_eq!(
+        ConvexHull::from_points(&three),
+        Err(HullError::TooFewPoints(3))
+    );
+    assert_eq!(
+        ConvexHull::from_points(&[]),
+        Err(HullError::TooFewPoints(0))
+    );
 
     let tilt = DQuat::from_axis_angle(DVec3::new(1.0, 1.0, 0.3).normalize(), 0.8);
     let grid: Vec<DVec3> = (0..25)
         .map(|i| tilt * DVec3::new((i % 5) as f64, (i / 5) as f64, 0.0) + DVec3::splat(7.0))
         .collect();
-    assert!(matches!(ConvexHull::from_points(&grid), Err(HullError::Degenerate(_))));
+    assert!(matches!(
+        ConvexHull::from_points(&grid),
+        Err(HullError::Degenerate(_))
+    ));
 
-    let line: Vec<DVec3> = (0..10).map(|i| DVec3::new(1.0, 2.0, 3.0) * i as f64).collect();
-    assert!(matches!(ConvexHull::from_points(&line), Err(HullError::Degenerate(_))));
+    let line: Vec<DVec3> = (0..10)
+        .map(|i| DVec3::new(1.0, 2.0, 3.0) * i as f64)
+        .collect();
+    assert!(matches!(
+        ConvexHull::from_points(&line),
+        Err(HullError::Degenerate(_))
+    ));
 
     let same = vec![DVec3::new(0.5, -0.25, 2.0); 6];
-    assert!(matches!(ConvexHull::from_points(&same), Err(HullError::Degenerate(_))));
+    assert!(matches!(
+        ConvexHull::from_points(&same),
+        Err(HullError::Degenerate(_))
+    ));
 
     let mut with_nan = box_corners(DVec3::ONE);
     with_nan[5].y = f64::NAN;
-    assert_eq!(ConvexHull::from_points(&with_nan), Err(HullError::NotFinite(5)));
+    assert_eq!(
+        ConvexHull::from_points(&with_nan),
+        Err(HullError::NotFinite(5))
+    );
     let mut with_infinity = box_corners(DVec3::ONE);
     with_infinity[2].z = f64::NEG_INFINITY;
-    assert_eq!(ConvexHull::from_points(&with_infinity), Err(HullError::NotFinite(2)));
+    assert_eq!(
+        ConvexHull::from_points(&with_infinity),
+        Err(HullError::NotFinite(2))
+    );
 }
 
+/// Construction tolerances are about 1e4 f64 epsilons (2.2e-12) of the cloud's half-extent.
 #[test]
 fn thin_slabs_are_hulls_until_they_flatten_below_tolerance() {
-    let mut slab = box_corners(DVec3::new(1.0, 1.0, 1e-6));
-    slab.extend(fibonacci_sphere(50, 0.5).iter().map(|p| *p * DVec3::new(1.0, 1.0, 1e-6)));
-    let hull = ConvexHull::from_points(&slab).unwrap();
-    assert_eq!((hull.vertices.len(), hull.faces.len()), (8, 6));
-    assert!(relative_error(hull.volume(), 8.0 * 1e-6) < 1e-9);
-    // Relative thickness 1e-12 is below the 1e-10 construction tolerance: a flat cloud.
-    let flat = box_corners(DVec3::new(1.0, 1.0, 1e-12));
-    assert!(matches!(ConvexHull::from_points(&flat), Err(HullError::Degenerate(_))));
+    for thickness in [1e-3, 1e-6, 1e-8] {
+        let half = DVec3::new(1.0, 1.0, thickness);
+        let mut slab = box_corners(half);
+        // Interior points and points on the top and bottom faces, inside the corners.
+        slab.extend(fibonacci_sphere(60, 0.9).iter().map(|p| *p * half));
+        slab.extend(
+            fibonacci_sphere(60, 0.7)
+                .iter()
+                .map(|p| p.with_z(thickness)),
+        );
+        slab.extend(
+            fibonacci_sphere(60, 0.7)
+                .iter()
+                .map(|p| p.with_z(-thickness)),
+        );
+        let hull = ConvexHull::from_points(&slab).unwrap();
+        assert_eq!((hull.vertices.len(), hull.faces.len()), (8, 6));
+        // A box volume from exact corners: rounding only.
+        assert!(relative_error(hull.volume(), 8.0 * thickness) < 1e-12);
+    }
+    // Relative thickness 1e-13 is below tolerance: a flat cloud.
+    let flat = box_corners(DVec3::new(1.0, 1.0, 1e-13));
+    assert!(matches!(
+        ConvexHull::from_points(&flat),
+        Err(HullError::Degenerate(_))
+    ));
+}
+
+/// Random points in a rotated slab: nothing is exactly coplanar, but the top and bottom
+/// surfaces are nearly flat.
+#[test]
+fn random_thin_slabs_give_valid_hulls() {
+    let rotation = DQuat::from_axis_angle(DVec3::new(0.1, 0.9, 0.4).normalize(), 1.1);
+    for thickness in [1e-2, 1e-4, 1e-6, 1e-8] {
+        for seed in 0..10 {
+            let mut rng = XorShift(0x2545_F491_4F6C_DD1D + seed);
+            let points: Vec<DVec3> = (0..300)
+                .map(|_| rotation * (rng.in_unit_cube() * DVec3::new(1.0, 1.0, thickness)))
+                .collect();
+            let hull = ConvexHull::from_points(&points).unwrap();
+            // As for the random clouds below: on_plane tolerance (2.2e-12) plus refitting.
+            check_structure(&hull, 1e-10);
+            assert_contains(&hull, &points, 1e-10);
+        }
+    }
 }
 
 #[test]
@@ -316,28 +419,43 @@ fn validate_catches_hand_built_mistakes() {
     assert_eq!(dangling.validate(), Err(HullError::InvalidFace(2)));
 
     let mut inside_out = good.clone();
-    inside_out.faces.iter_mut().for_each(|f| f.vertices.reverse());
-    assert!(matches!(inside_out.validate(), Err(HullError::Degenerate(_))));
+    inside_out
+        .faces
+        .iter_mut()
+        .for_each(|f| f.vertices.reverse());
+    assert!(matches!(
+        inside_out.validate(),
+        Err(HullError::Degenerate(_))
+    ));
 
     let mut not_finite = good.clone();
     not_finite.vertices[3].x = f64::INFINITY;
     assert_eq!(not_finite.validate(), Err(HullError::NotFinite(3)));
 
     let tiny = ConvexHull::cuboid(DVec3::new(0.5, 0.5, 1e-6));
-    assert!(matches!(tiny.validate(), Err(HullError::ExtentOutOfRange(_))));
+    assert!(matches!(
+        tiny.validate(),
+        Err(HullError::ExtentOutOfRange(_))
+    ));
 
     let mut too_few = good.clone();
     too_few.vertices.truncate(3);
     assert_eq!(too_few.validate(), Err(HullError::TooFewPoints(3)));
 
-    assert!(Shape::hull(&box_corners(DVec3::ONE)).unwrap().validate().is_ok());
+    assert!(
+        Shape::hull(&box_corners(DVec3::ONE))
+            .unwrap()
+            .validate()
+            .is_ok()
+    );
 }
 
 /// Random clouds with the structures that break naive hulls: exact duplicates, points on a
 /// common plane (on the hull or cutting through it) and integer lattices (many collinear and
 /// coplanar points at once).
 fn cloud() -> impl Strategy<Value = Vec<DVec3>> {
-    let point = (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64).prop_map(|(x, y, z)| DVec3::new(x, y, z));
+    let point =
+        (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64).prop_map(|(x, y, z)| DVec3::new(x, y, z));
     let lattice_point = (0..4i32, 0..4i32, 0..4i32)
         .prop_map(|(x, y, z)| DVec3::new(x as f64, y as f64, z as f64) * 0.5 - 0.75);
     let base = prop_oneof![
@@ -353,7 +471,10 @@ fn cloud() -> impl Strategy<Value = Vec<DVec3>> {
         any::<bool>(),
     )
         .prop_map(|(mut points, duplicates, planar, normal, height, on_top)| {
-            let picks: Vec<DVec3> = duplicates.iter().map(|i| points[i.index(points.len())]).collect();
+            let picks: Vec<DVec3> = duplicates
+                .iter()
+                .map(|i| points[i.index(points.len())])
+                .collect();
             points.extend(picks);
             // A plane z = const (the cloud's top: on the hull) or a tilted plane across it.
             let tilt = DQuat::from_rotation_arc(DVec3::Z, normal.normalize_or(DVec3::Z));

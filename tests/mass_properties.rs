@@ -16,7 +16,10 @@ fn relative_error(actual: f64, expected: f64) -> f64 {
 /// Largest entry of |a − b| over the largest entry of |b|.
 fn matrix_error(actual: DMat3, expected: DMat3) -> f64 {
     let diff = (actual - expected).to_cols_array();
-    let scale = expected.to_cols_array().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = expected
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
     diff.iter().fold(0.0f64, |m, x| m.max(x.abs())) / scale
 }
 
@@ -72,9 +75,12 @@ fn integrate_revolution(radius: impl Fn(f64) -> f64, y0: f64, y1: f64) -> Revolu
     total
 }
 
+/// A radius profile R(y) and the interval [y0, y1] it covers.
+type ProfilePiece<'a> = (&'a dyn Fn(f64) -> f64, f64, f64);
+
 /// Sums of the pieces of a piecewise profile, each integrated separately so that Simpson's
 /// rule never straddles a kink.
-fn integrate_pieces(pieces: &[(&dyn Fn(f64) -> f64, f64, f64)]) -> Revolution {
+fn integrate_pieces(pieces: &[ProfilePiece]) -> Revolution {
     pieces.iter().fold(
         Revolution {
             mass: 0.0,
@@ -187,7 +193,10 @@ fn capsule_matches_monte_carlo() {
     // sqrt(0.82·0.18/4e5) ≈ 6e-4 of 0.82, i.e. 0.07% relative; the inertia's is ~0.15%.
     // 1% is more than 5 standard errors for both.
     assert_close("mass", props.mass, mass, 0.01);
-    assert!((first / hits as f64).length() < 0.01 * r, "Monte Carlo centre off");
+    assert!(
+        (first / hits as f64).length() < 0.01 * r,
+        "Monte Carlo centre off"
+    );
     assert_matrix_close("inertia", props.inertia, inertia, 0.01);
 }
 
@@ -236,8 +245,16 @@ fn two_boxes_side_by_side_equal_one_long_box() {
     let half = DVec3::new(0.4, 0.25, 0.15);
     let offset = DVec3::new(2.0, 1.0, -3.0);
     let props = compound_props(vec![
-        part(Shape::cuboid(half), offset - DVec3::X * half.x, DQuat::IDENTITY),
-        part(Shape::cuboid(half), offset + DVec3::X * half.x, DQuat::IDENTITY),
+        part(
+            Shape::cuboid(half),
+            offset - DVec3::X * half.x,
+            DQuat::IDENTITY,
+        ),
+        part(
+            Shape::cuboid(half),
+            offset + DVec3::X * half.x,
+            DQuat::IDENTITY,
+        ),
     ]);
     let long = MassProperties::of_shape(
         &Shape::cuboid(DVec3::new(2.0 * half.x, half.y, half.z)),
@@ -301,7 +318,10 @@ fn rotated_part_gives_rotated_tensor() {
     assert!((props.center - integrated.center).length() < 1e-12);
     assert_matrix_close("inertia", props.inertia, integrated.inertia, 1e-12);
     let off_diagonal = props.inertia.y_axis.x.abs() + props.inertia.z_axis.x.abs();
-    assert!(off_diagonal > 1e-3 * props.inertia.x_axis.x, "products of inertia vanish");
+    assert!(
+        off_diagonal > 1e-3 * props.inertia.x_axis.x,
+        "products of inertia vanish"
+    );
 }
 
 #[test]

@@ -41,7 +41,10 @@ impl Compound {
                 )));
             }
             part.shape.validate().map_err(|error| {
-                ShapeError::Compound(format!("part {index} ({}): {error}", part.shape.kind_name()))
+                ShapeError::Compound(format!(
+                    "part {index} ({}): {error}",
+                    part.shape.kind_name()
+                ))
             })?;
         }
         Ok(())

@@ -2,11 +2,14 @@
 //! properties from polyhedral volume integrals.
 //!
 //! Construction runs in three stages:
-//! 1. the cloud is centred and scaled into [-1, 1]³, so one absolute tolerance fits every cloud;
-//! 2. quickhull builds a triangulated hull, treating planes as `TOLERANCE` thick so that
-//!    duplicate, coplanar and collinear points never create slivers or folds;
-//! 3. coplanar triangles are merged into convex polygons, and vertices left on only two
-//!    polygons (points in the middle of an edge) are dropped.
+//! 1. the cloud is centred and scaled into [-1, 1]³, and its `Tolerance`s are derived from the
+//!    rounding noise its coordinates carry;
+//! 2. quickhull builds a triangulated hull: a point joins it only if it lies farther than
+//!    `on_plane` outside, so duplicate, coplanar and mid-edge points never create slivers,
+//!    and each new point replaces exactly the triangles it sees (above `visible`);
+//! 3. coplanar triangles are merged into convex polygons, vertices left on only two
+//!    polygons (points in the middle of an edge) are dropped, and the result is checked to be
+//!    a closed, locally convex surface.
 
 use std::collections::{HashMap, HashSet};
 
@@ -16,10 +19,28 @@ use thiserror::Error;
 use crate::physics::mass::{self, MassProperties};
 use crate::physics::shape::{MAX_EXTENT, MIN_EXTENT};
 
-/// Distance, in units of the cloud's largest half-extent, under which a point counts as lying
-/// on a plane. Well above f64 rounding in plane tests (~1e-15), well below any feature a
-/// collision engine resolves.
-const TOLERANCE: f64 = 1e-10;
+/// Thresholds, in units of the normalized cloud (its largest half-extent is 1).
+#[derive(Clone, Copy, Debug)]
+struct Tolerance {
+    /// A triangle is seen from a point above its plane by more than this. Just above rounding
+    /// noise, so that the region a point sees is the exact one: a thicker threshold can split
+    /// it in two and leave a seen triangle behind, which breaks convexity.
+    visible: f64,
+    /// A point within this of a plane counts as on it: it never joins the hull, and triangles
+    /// within it of a common plane merge into one face.
+    on_plane: f64,
+}
+
+impl Tolerance {
+    /// `relative_noise` is the rounding error of the input coordinates over the half-extent:
+    /// f64 epsilon, or more for a small cloud far from the origin.
+    fn new(relative_noise: f64) -> Self {
+        Tolerance {
+            visible: 1e3 * relative_noise,
+            on_plane: 1e4 * relative_noise,
+        }
+    }
+}
 
 /// A face of a hull: a convex polygon with its outward plane `normal · x = offset`.
 #[derive(Clone, Debug, PartialEq)]
@@ -63,9 +84,14 @@ impl ConvexHull {
         if let Some(index) = points.iter().position(|p| !p.is_finite()) {
             return Err(HullError::NotFinite(index));
         }
-        let unit_cloud = normalized(points)?;
-        let triangles = Quickhull::new(&unit_cloud)?.run();
-        let polygons = merge_coplanar(&unit_cloud, &triangles)?;
+        let (unit_cloud, tolerance) = normalized(points)?;
+        let triangles = Quickhull::new(&unit_cloud, tolerance)?.run();
+        let polygons = merge_coplanar(&unit_cloud, &triangles, tolerance.on_plane)?;
+        if !is_closed_and_convex(&unit_cloud, &polygons, tolerance.on_plane) {
+            return Err(HullError::Degenerate(
+                "too thin to resolve in f64: no consistent convex surface",
+            ));
+        }
         Ok(Self::from_polygons(points, &polygons))
     }
 
@@ -88,8 +114,11 @@ impl ConvexHull {
                 };
                 let ring = [(false, false), (true, false), (true, true), (false, true)];
                 let positive: Vec<u32> = ring.iter().map(|&(a, b)| corner(true, a, b)).collect();
-                let negative: Vec<u32> =
-                    ring.iter().rev().map(|&(a, b)| corner(false, a, b)).collect();
+                let negative: Vec<u32> = ring
+                    .iter()
+                    .rev()
+                    .map(|&(a, b)| corner(false, a, b))
+                    .collect();
                 [positive, negative]
             })
             .collect();
@@ -187,7 +216,10 @@ fn face_with_plane(vertices: &[DVec3], ring: Vec<u32>) -> HullFace {
     let centroid = points.iter().sum::<DVec3>() / points.len() as f64;
     let area_vector: DVec3 = ring_edges(&ring)
         .map(|(a, b)| {
-            let (a, b) = (vertices[a as usize] - centroid, vertices[b as usize] - centroid);
+            let (a, b) = (
+                vertices[a as usize] - centroid,
+                vertices[b as usize] - centroid,
+            );
             a.cross(b)
         })
         .sum();
@@ -214,8 +246,8 @@ fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
 }
 
 /// The cloud moved to its bounding-box centre and divided by its largest half-extent, so that
-/// it spans [-1, 1] along at least one axis.
-fn normalized(points: &[DVec3]) -> Result<Vec<DVec3>, HullError> {
+/// it spans [-1, 1] along at least one axis, with the tolerances that fit it.
+fn normalized(points: &[DVec3]) -> Result<(Vec<DVec3>, Tolerance), HullError> {
     let (min, max) = bounds(points);
     // Halving before subtracting keeps clouds near ±f64::MAX from overflowing.
     let centre = min * 0.5 + max * 0.5;
@@ -223,7 +255,12 @@ fn normalized(points: &[DVec3]) -> Result<Vec<DVec3>, HullError> {
     if scale == 0.0 {
         return Err(HullError::Degenerate("all points coincide"));
     }
-    Ok(points.iter().map(|&p| (p - centre) / scale).collect())
+    // Coordinates are only known to f64 epsilon of their magnitude: a cloud far from the
+    // origin compared with its size has proportionally noisier shape.
+    let magnitude = min.abs().max(max.abs()).max_element();
+    let tolerance = Tolerance::new(f64::EPSILON * magnitude / scale);
+    let unit_cloud = points.iter().map(|&p| (p - centre) / scale).collect();
+    Ok((unit_cloud, tolerance))
 }
 
 /// Signed distance of `point` above the plane of a triangle or polygon.
@@ -250,6 +287,7 @@ impl Triangle {
 
 struct Quickhull<'a> {
     points: &'a [DVec3],
+    tolerance: Tolerance,
     triangles: Vec<Triangle>,
     /// Directed edge (from, to) → the live triangle that has it in counter-clockwise order;
     /// the neighbour across an edge is the owner of the reversed edge.
@@ -259,10 +297,11 @@ struct Quickhull<'a> {
 }
 
 impl<'a> Quickhull<'a> {
-    fn new(points: &'a [DVec3]) -> Result<Self, HullError> {
-        let simplex = initial_simplex(points)?;
+    fn new(points: &'a [DVec3], tolerance: Tolerance) -> Result<Self, HullError> {
+        let simplex = initial_simplex(points, tolerance.on_plane)?;
         let mut hull = Quickhull {
             points,
+            tolerance,
             triangles: Vec::new(),
             edge_owner: HashMap::new(),
             pending: Vec::new(),
@@ -292,7 +331,8 @@ impl<'a> Quickhull<'a> {
             let triangle = &self.triangles[start];
             let points = self.points;
             let farthest = triangle.outside.iter().copied().max_by(|&p, &q| {
-                let height = |i: u32| height_above(triangle.normal, triangle.offset, points[i as usize]);
+                let height =
+                    |i: u32| height_above(triangle.normal, triangle.offset, points[i as usize]);
                 height(p).total_cmp(&height(q))
             });
             if let (true, Some(apex)) = (triangle.alive, farthest) {
@@ -308,15 +348,16 @@ impl<'a> Quickhull<'a> {
 
     /// Replaces the triangles `apex` sees by a cone of new triangles from the horizon to it.
     fn add_point(&mut self, start: usize, apex: u32) {
-        // A strict threshold first; if rounding left the visible region with a hole or a pinch,
-        // a lenient one that also takes triangles the apex lies on within tolerance.
-        let region = [TOLERANCE, -TOLERANCE].into_iter().find_map(|threshold| {
+        // If rounding left the visible region with a hole or a pinch, try again also taking
+        // the triangles the apex lies on within rounding.
+        let visible = self.tolerance.visible;
+        let region = [visible, -visible].into_iter().find_map(|threshold| {
             let visible = self.visible_region(start, apex, threshold);
             self.horizon(&visible).map(|horizon| (visible, horizon))
         });
         let Some((visible, horizon)) = region else {
-            // Only reachable for a point within rounding of several nearly coplanar planes:
-            // leave it out rather than corrupt the surface.
+            // Only reachable for a point within rounding of several planes at once: leave it
+            // out rather than corrupt the surface.
             self.triangles[start].outside.retain(|&p| p != apex);
             self.pending.push(start);
             return;
@@ -408,7 +449,7 @@ impl<'a> Quickhull<'a> {
     }
 
     /// Gives each point to the candidate triangle it is farthest above, if it is above any by
-    /// more than the tolerance; the others are inside the hull and are dropped for good.
+    /// more than `on_plane`; the others are inside the hull (or on it) and are dropped.
     fn assign_outside(&mut self, points: impl Iterator<Item = u32>, candidates: &[usize]) {
         for p in points {
             let point = self.points[p as usize];
@@ -419,7 +460,7 @@ impl<'a> Quickhull<'a> {
                     (t, height_above(triangle.normal, triangle.offset, point))
                 })
                 .max_by(|x, y| x.1.total_cmp(&y.1));
-            if let Some((t, _)) = best.filter(|&(_, height)| height > TOLERANCE) {
+            if let Some((t, _)) = best.filter(|&(_, height)| height > self.tolerance.on_plane) {
                 if self.triangles[t].outside.is_empty() {
                     self.pending.push(t);
                 }
@@ -432,7 +473,7 @@ impl<'a> Quickhull<'a> {
 /// Four points spanning a tetrahedron as large as a cheap search finds, or the reason none
 /// exists: the extremes of the widest axis, then the point farthest from their line, then the
 /// point farthest from their plane.
-fn initial_simplex(points: &[DVec3]) -> Result<[u32; 4], HullError> {
+fn initial_simplex(points: &[DVec3], on_plane: f64) -> Result<[u32; 4], HullError> {
     let farthest = |measure: &dyn Fn(DVec3) -> f64| {
         (0..points.len())
             .map(|i| (i as u32, measure(points[i])))
@@ -454,12 +495,12 @@ fn initial_simplex(points: &[DVec3]) -> Result<[u32; 4], HullError> {
     let (pa, pb) = (points[a as usize], points[b as usize]);
     let direction = (pb - pa).normalize();
     let (c, off_line) = farthest(&|p| (p - pa).cross(direction).length());
-    if off_line <= TOLERANCE {
+    if off_line <= on_plane {
         return Err(HullError::Degenerate("points are collinear"));
     }
     let normal = direction.cross(points[c as usize] - pa).normalize();
     let (d, off_plane) = farthest(&|p| normal.dot(p - pa).abs());
-    if off_plane <= TOLERANCE {
+    if off_plane <= on_plane {
         return Err(HullError::Degenerate("points are coplanar"));
     }
     Ok([a, b, c, d])
@@ -468,9 +509,13 @@ fn initial_simplex(points: &[DVec3]) -> Result<[u32; 4], HullError> {
 /// Groups the triangles of a closed hull into planar regions and returns each region's
 /// boundary as a counter-clockwise polygon, keeping only vertices where three or more
 /// polygons meet.
-fn merge_coplanar(points: &[DVec3], triangles: &[[u32; 3]]) -> Result<Vec<Vec<u32>>, HullError> {
+fn merge_coplanar(
+    points: &[DVec3],
+    triangles: &[[u32; 3]],
+    on_plane: f64,
+) -> Result<Vec<Vec<u32>>, HullError> {
     let mesh = TriangleMesh::new(points, triangles);
-    let regions = mesh.coplanar_regions();
+    let regions = mesh.coplanar_regions(on_plane);
     let mut polygons: Vec<Vec<u32>> = Vec::new();
     for region in &regions {
         match mesh.boundary_loop(region) {
@@ -527,8 +572,8 @@ impl<'a> TriangleMesh<'a> {
     }
 
     /// Regions grown from the largest remaining triangle (whose plane is the best determined)
-    /// over neighbours whose corners all lie within tolerance of the seed's plane.
-    fn coplanar_regions(&self) -> Vec<Vec<usize>> {
+    /// over neighbours whose corners all lie within `on_plane` of the seed's plane.
+    fn coplanar_regions(&self, on_plane: f64) -> Vec<Vec<usize>> {
         let mut by_area: Vec<usize> = (0..self.triangles.len()).collect();
         by_area.sort_by(|&s, &t| {
             let area = |i: usize| self.area_vector(i).length_squared();
@@ -546,7 +591,7 @@ impl<'a> TriangleMesh<'a> {
             let on_plane = |t: usize| {
                 self.area_vector(t).dot(normal) > 0.0
                     && self.triangles[t].iter().all(|&v| {
-                        height_above(normal, offset, self.points[v as usize]).abs() <= TOLERANCE
+                        height_above(normal, offset, self.points[v as usize]).abs() <= on_plane
                     })
             };
             let mut region = vec![seed];
@@ -590,4 +635,40 @@ impl<'a> TriangleMesh<'a> {
         }
         (ring.len() == next.len()).then_some(ring)
     }
+}
+
+/// Whether the polygons form a closed surface of sphere topology (V − E + F = 2) with convex,
+/// counter-clockwise faces, and no face has a vertex of a neighbouring face above its plane by
+/// more than `on_plane`. A closed surface convex at every edge is the boundary of a convex
+/// solid, so this certifies the hull without testing every input point.
+fn is_closed_and_convex(points: &[DVec3], polygons: &[Vec<u32>], on_plane: f64) -> bool {
+    let mut edge_owner = HashMap::new();
+    for (face, ring) in polygons.iter().enumerate() {
+        for edge in ring_edges(ring) {
+            if edge_owner.insert(edge, face).is_some() {
+                return false;
+            }
+        }
+    }
+    let vertex_count = polygons.iter().flatten().collect::<HashSet<_>>().len();
+    let edge_count = edge_owner.len() / 2;
+    if vertex_count + polygons.len() != edge_count + 2 {
+        return false;
+    }
+    polygons.iter().all(|ring| {
+        let face = face_with_plane(points, ring.clone());
+        let corners: Vec<DVec3> = ring.iter().map(|&v| points[v as usize]).collect();
+        let turns_left = (0..corners.len()).all(|i| {
+            let [a, b, c] = [0, 1, 2].map(|k| corners[(i + k) % corners.len()]);
+            (b - a).cross(c - b).dot(face.normal) > 0.0
+        });
+        let neighbours_below = ring_edges(ring).all(|(a, b)| {
+            edge_owner.get(&(b, a)).is_some_and(|&across| {
+                polygons[across].iter().all(|&v| {
+                    height_above(face.normal, face.offset, points[v as usize]) <= on_plane
+                })
+            })
+        });
+        turns_left && neighbours_below
+    })
 }

@@ -97,7 +97,8 @@ pub(crate) fn polyhedron<'a>(
             let s = a + b + c;
             volume += tetra_volume;
             first += s * (tetra_volume / 4.0);
-            second += (outer(a, a) + outer(b, b) + outer(c, c) + outer(s, s)) * (tetra_volume / 20.0);
+            second +=
+                (outer(a, a) + outer(b, b) + outer(c, c) + outer(s, s)) * (tetra_volume / 20.0);
         }
     }
     let centroid = first / volume;

@@ -19,12 +19,22 @@ pub const MAX_EXTENT: f64 = 1e4;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
-    Sphere { radius: f64 },
-    Cuboid { half_extents: DVec3 },
+    Sphere {
+        radius: f64,
+    },
+    Cuboid {
+        half_extents: DVec3,
+    },
     /// A segment from (0, -half_height, 0) to (0, half_height, 0), swept by a sphere of `radius`.
-    Capsule { half_height: f64, radius: f64 },
+    Capsule {
+        half_height: f64,
+        radius: f64,
+    },
     /// A solid cylinder around the local y axis.
-    Cylinder { half_height: f64, radius: f64 },
+    Cylinder {
+        half_height: f64,
+        radius: f64,
+    },
     ConvexHull(Arc<ConvexHull>),
     /// A concave body made of convex parts.
     Compound(Arc<Compound>),
@@ -67,7 +77,9 @@ impl Shape {
 
     /// The convex hull of a point cloud (quickhull).
     pub fn hull(points: &[DVec3]) -> Result<Self, ShapeError> {
-        Ok(Shape::ConvexHull(Arc::new(ConvexHull::from_points(points)?)))
+        Ok(Shape::ConvexHull(Arc::new(ConvexHull::from_points(
+            points,
+        )?)))
     }
 
     pub fn kind_name(&self) -> &'static str {
@@ -198,9 +210,5 @@ fn check_extent(field: &'static str, value: f64) -> Result<(), ShapeError> {
 
 /// Component-wise sign with zero mapped to +1, so a support point is always a vertex.
 fn sign_or_positive(v: DVec3) -> DVec3 {
-    DVec3::new(
-        1f64.copysign(v.x),
-        1f64.copysign(v.y),
-        1f64.copysign(v.z),
-    )
+    DVec3::new(1f64.copysign(v.x), 1f64.copysign(v.y), 1f64.copysign(v.z))
 }
