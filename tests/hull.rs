@@ -418,6 +418,8 @@ fn validate_catches_hand_built_mistakes() {
     dangling.faces[2].vertices[1] = 99;
     assert_eq!(dangling.validate(), Err(HullError::InvalidFace(2)));
 
+    // Reversed windings with planes left as they were pass every per-face check but enclose
+    // a negative volume.
     let mut inside_out = good.clone();
     inside_out
         .faces
@@ -427,6 +429,23 @@ fn validate_catches_hand_built_mistakes() {
         inside_out.validate(),
         Err(HullError::Degenerate(_))
     ));
+
+    let mut wrong_offset = good.clone();
+    wrong_offset.faces[4].offset += 0.01;
+    assert_eq!(wrong_offset.validate(), Err(HullError::BadPlane(4)));
+
+    let mut flipped_normal = good.clone();
+    flipped_normal.faces[1].normal = -flipped_normal.faces[1].normal;
+    flipped_normal.faces[1].offset = -flipped_normal.faces[1].offset;
+    assert_eq!(flipped_normal.validate(), Err(HullError::NotConvex(1)));
+
+    let mut dented = good.clone();
+    dented.vertices[0] *= 0.5; // pulls a corner in: its three faces stop being planar
+    assert!(matches!(dented.validate(), Err(HullError::BadPlane(_))));
+
+    let mut bulged = good.clone();
+    bulged.vertices.push(DVec3::new(0.0, 0.0, 2.0)); // a vertex no face uses, outside
+    assert!(matches!(bulged.validate(), Err(HullError::NotConvex(_))));
 
     let mut not_finite = good.clone();
     not_finite.vertices[3].x = f64::INFINITY;
@@ -451,8 +470,9 @@ fn validate_catches_hand_built_mistakes() {
 }
 
 /// Random clouds with the structures that break naive hulls: exact duplicates, points on a
-/// common plane (on the hull or cutting through it) and integer lattices (many collinear and
-/// coplanar points at once).
+/// common plane (on the hull or cutting through it, exactly or within a small jitter) and
+/// integer lattices (many collinear and coplanar points at once); then scaled and moved off
+/// the origin.
 fn cloud() -> impl Strategy<Value = Vec<DVec3>> {
     let point =
         (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64).prop_map(|(x, y, z)| DVec3::new(x, y, z));
@@ -462,52 +482,105 @@ fn cloud() -> impl Strategy<Value = Vec<DVec3>> {
         prop::collection::vec(point.clone(), 4..200),
         prop::collection::vec(lattice_point, 4..80),
     ];
+    let planar = (
+        prop::collection::vec((-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64), 0..40),
+        point.clone(),
+        0.0..1.0f64,
+        any::<bool>(),
+        prop_oneof![Just(0.0), Just(1e-9), Just(1e-6)],
+    );
+    let placement = (
+        -3.0..3.0f64,
+        prop_oneof![Just(DVec3::ZERO), point.clone()],
+        0.0..3.0f64,
+    );
     (
         base,
         prop::collection::vec(any::<prop::sample::Index>(), 0..30),
-        prop::collection::vec((-1.0..1.0f64, -1.0..1.0f64), 0..40),
-        point,
-        0.0..1.0f64,
-        any::<bool>(),
+        planar,
+        placement,
     )
-        .prop_map(|(mut points, duplicates, planar, normal, height, on_top)| {
+        .prop_map(|(mut points, duplicates, planar, placement)| {
             let picks: Vec<DVec3> = duplicates
                 .iter()
                 .map(|i| points[i.index(points.len())])
                 .collect();
             points.extend(picks);
-            // A plane z = const (the cloud's top: on the hull) or a tilted plane across it.
+            // A plane z = 1 (the cloud's top: on the hull) or a tilted plane across it.
+            let (uvs, normal, height, on_top, jitter) = planar;
             let tilt = DQuat::from_rotation_arc(DVec3::Z, normal.normalize_or(DVec3::Z));
-            for (u, v) in planar {
+            for (u, v, w) in uvs {
                 let p = if on_top {
-                    DVec3::new(u, v, 1.0)
+                    DVec3::new(u, v, 1.0 - jitter * w.abs())
                 } else {
-                    tilt * DVec3::new(u, v, height - 0.5)
+                    tilt * DVec3::new(u, v, height - 0.5 + jitter * w)
                 };
                 points.push(p);
             }
+            let (log_scale, direction, log_distance) = placement;
+            let offset = direction * 10f64.powf(log_distance);
             points
+                .iter()
+                .map(|&p| p * 10f64.powf(log_scale) + offset)
+                .collect()
         })
 }
 
+/// Farthest distance of the cloud from a plane through three of its points chosen the simple
+/// way (first point, farthest from it, farthest from their line), relative to its size: zero
+/// for a flat cloud, of the order of its thickness otherwise.
+fn flatness(points: &[DVec3]) -> f64 {
+    let farthest = |measure: &dyn Fn(DVec3) -> f64| {
+        points
+            .iter()
+            .copied()
+            .max_by(|p, q| measure(*p).total_cmp(&measure(*q)))
+            .unwrap()
+    };
+    let a = points[0];
+    let b = farthest(&|p| (p - a).length());
+    let size = (b - a).length();
+    if size == 0.0 {
+        return 0.0;
+    }
+    let c = farthest(&|p| (p - a).cross(b - a).length());
+    let normal = (b - a).cross(c - a);
+    if normal.length() <= 1e-12 * size * size {
+        return 0.0;
+    }
+    let normal = normal.normalize();
+    points
+        .iter()
+        .map(|p| normal.dot(*p - a).abs())
+        .fold(0.0, f64::max)
+        / size
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(400))]
+    #![proptest_config(ProptestConfig::with_cases(500))]
 
     #[test]
     fn random_clouds_give_valid_hulls(points in cloud()) {
         let extent = points.iter().fold(0.0f64, |m, p| m.max(p.abs().max_element()));
         match ConvexHull::from_points(&points) {
             Ok(hull) => {
-                // Construction treats points within 1e-10 × extent of a plane as on it; the
-                // merged face planes are refitted, so allow 1e-8 × extent.
-                let tolerance = 1e-8 * extent;
+                // Construction counts points within ~2e-12 × extent of a plane as on it, and
+                // merged faces are refitted planes: 1e-9 × extent leaves a wide margin.
+                let tolerance = 1e-9 * extent;
                 check_structure(&hull, tolerance);
                 assert_contains(&hull, &points, tolerance);
                 for v in &hull.vertices {
                     prop_assert!(points.contains(v));
                 }
+                if hull.validate().is_err() {
+                    // Only the size limits may reject a hull built here.
+                    prop_assert!(matches!(hull.validate(), Err(HullError::ExtentOutOfRange(_))), "{:?}", hull.validate());
+                }
             }
-            Err(HullError::Degenerate(_)) => {}
+            Err(HullError::Degenerate(_)) => {
+                let flat = flatness(&points);
+                prop_assert!(flat < 1e-9, "a cloud {flat:e} thick was called degenerate");
+            }
             Err(other) => prop_assert!(false, "unexpected error {other:?}"),
         }
     }

@@ -40,6 +40,13 @@ impl Tolerance {
             on_plane: 1e4 * relative_noise,
         }
     }
+
+    fn scaled(self, factor: f64) -> Self {
+        Tolerance {
+            visible: self.visible * factor,
+            on_plane: self.on_plane * factor,
+        }
+    }
 }
 
 /// A face of a hull: a convex polygon with its outward plane `normal · x = offset`.
@@ -72,7 +79,16 @@ pub enum HullError {
     InvalidFace(usize),
     #[error("extent {0} m lies outside [{MIN_EXTENT}, {MAX_EXTENT}] m")]
     ExtentOutOfRange(f64),
+    #[error("face {0}: normal not unit length, or its plane misses a vertex of the face")]
+    BadPlane(usize),
+    #[error("a vertex lies outside the plane of face {0}: the hull is not convex")]
+    NotConvex(usize),
 }
+
+/// How far (relative to the hull's size) a hand-built hull's vertices may stray from the face
+/// planes, on top of what `from_points` itself allows: loose enough for planes computed in
+/// f64 from rounded vertices, tight enough to catch a wrong normal or offset.
+const VALIDATE_TOLERANCE: f64 = 1e-9;
 
 impl ConvexHull {
     /// The convex hull of `points`. Interior, duplicate and mid-edge/mid-face points are
@@ -85,14 +101,16 @@ impl ConvexHull {
             return Err(HullError::NotFinite(index));
         }
         let (unit_cloud, tolerance) = normalized(points)?;
-        let triangles = Quickhull::new(&unit_cloud, tolerance)?.run();
-        let polygons = merge_coplanar(&unit_cloud, &triangles, tolerance.on_plane)?;
-        if !is_closed_and_convex(&unit_cloud, &polygons, tolerance.on_plane) {
-            return Err(HullError::Degenerate(
-                "too thin to resolve in f64: no consistent convex surface",
-            ));
+        // Points that stray from a common plane by about the tolerance can fool a single
+        // pass; they are very unlikely to do so at tolerances a decade apart.
+        let mut last_error = HullError::Degenerate("no consistent convex surface");
+        for scale in [1.0, 10.0, 100.0, 0.1] {
+            match hull_polygons(&unit_cloud, tolerance.scaled(scale)) {
+                Ok(polygons) => return Ok(Self::from_polygons(points, &polygons)),
+                Err(error) => last_error = error,
+            }
         }
-        Ok(Self::from_polygons(points, &polygons))
+        Err(last_error)
     }
 
     /// A box centred on the origin, as a hull with 6 quads (for face-based collision).
@@ -125,7 +143,9 @@ impl ConvexHull {
         Self::from_polygons(&corners, &polygons)
     }
 
-    /// Checks what a hand-built hull can get wrong. Convexity itself is not checked.
+    /// Checks what a hand-built hull can get wrong: finite vertices, at least 4 of them, faces
+    /// that index real vertices, extents within [MIN_EXTENT, MAX_EXTENT], face planes that
+    /// match their vertices, convexity and a positive volume.
     pub fn validate(&self) -> Result<(), HullError> {
         if let Some(index) = self.vertices.iter().position(|v| !v.is_finite()) {
             return Err(HullError::NotFinite(index));
@@ -144,6 +164,23 @@ impl ConvexHull {
         for half_extent in ((max - min) * 0.5).to_array() {
             if !(MIN_EXTENT..=MAX_EXTENT).contains(&half_extent) {
                 return Err(HullError::ExtentOutOfRange(half_extent));
+            }
+        }
+        let half_size = ((max - min) * 0.5).max_element();
+        let construction = Tolerance::new(relative_noise(min, max)).on_plane;
+        let slack = (VALIDATE_TOLERANCE + 10.0 * construction) * half_size;
+        for (index, face) in self.faces.iter().enumerate() {
+            let off_plane =
+                |&v: &u32| (face.normal.dot(self.vertices[v as usize]) - face.offset).abs() > slack;
+            if (face.normal.length() - 1.0).abs() > 1e-9 || face.vertices.iter().any(off_plane) {
+                return Err(HullError::BadPlane(index));
+            }
+            if self
+                .vertices
+                .iter()
+                .any(|&v| face.normal.dot(v) - face.offset > slack)
+            {
+                return Err(HullError::NotConvex(index));
             }
         }
         // Inward-wound faces give a negative volume, open surfaces an arbitrary one.
@@ -209,6 +246,18 @@ impl ConvexHull {
     }
 }
 
+/// The hull's faces over the normalized cloud, certified convex.
+fn hull_polygons(unit_cloud: &[DVec3], tolerance: Tolerance) -> Result<Vec<Vec<u32>>, HullError> {
+    let triangles = Quickhull::new(unit_cloud, tolerance)?.run();
+    let polygons = merge_coplanar(unit_cloud, &triangles, tolerance.on_plane)?;
+    if !is_closed_and_convex(unit_cloud, &polygons, tolerance.on_plane) {
+        return Err(HullError::Degenerate(
+            "too thin or too nearly coplanar to resolve in f64",
+        ));
+    }
+    Ok(polygons)
+}
+
 /// The plane of a polygon by Newell's method, which averages over all its vertices and so
 /// stays accurate for long thin polygons where one cross product would not.
 fn face_with_plane(vertices: &[DVec3], ring: Vec<u32>) -> HullFace {
@@ -255,12 +304,18 @@ fn normalized(points: &[DVec3]) -> Result<(Vec<DVec3>, Tolerance), HullError> {
     if scale == 0.0 {
         return Err(HullError::Degenerate("all points coincide"));
     }
-    // Coordinates are only known to f64 epsilon of their magnitude: a cloud far from the
-    // origin compared with its size has proportionally noisier shape.
-    let magnitude = min.abs().max(max.abs()).max_element();
-    let tolerance = Tolerance::new(f64::EPSILON * magnitude / scale);
+    let tolerance = Tolerance::new(relative_noise(min, max));
     let unit_cloud = points.iter().map(|&p| (p - centre) / scale).collect();
     Ok((unit_cloud, tolerance))
+}
+
+/// Rounding error of coordinates within these bounds, over the largest half-extent.
+/// Coordinates are only known to f64 epsilon of their magnitude: a cloud far from the origin
+/// compared with its size has a proportionally noisier shape.
+fn relative_noise(min: DVec3, max: DVec3) -> f64 {
+    let magnitude = min.abs().max(max.abs()).max_element();
+    let half_size = (max * 0.5 - min * 0.5).max_element();
+    f64::EPSILON * magnitude / half_size
 }
 
 /// Signed distance of `point` above the plane of a triangle or polygon.
@@ -375,38 +430,46 @@ impl<'a> Quickhull<'a> {
     }
 
     /// Triangles reachable from `start` across edges whose plane `apex` is above by more than
-    /// `threshold`.
-    fn visible_region(&self, start: usize, apex: u32, threshold: f64) -> HashSet<usize> {
+    /// `threshold`, in the order they were reached (the hash set only answers membership, so
+    /// that nothing depends on hash order and the hull is the same on every run).
+    fn visible_region(&self, start: usize, apex: u32, threshold: f64) -> Vec<usize> {
         let point = self.points[apex as usize];
-        let mut visible = HashSet::from([start]);
-        let mut stack = vec![start];
-        while let Some(t) = stack.pop() {
+        let mut reached = HashSet::from([start]);
+        let mut region = vec![start];
+        let mut next = 0;
+        while let Some(&t) = region.get(next) {
+            next += 1;
             for (a, b) in self.triangles[t].edges() {
                 let neighbour = self.edge_owner[&(b, a)];
                 let seen = &self.triangles[neighbour];
                 if height_above(seen.normal, seen.offset, point) > threshold
-                    && visible.insert(neighbour)
+                    && reached.insert(neighbour)
                 {
-                    stack.push(neighbour);
+                    region.push(neighbour);
                 }
             }
         }
-        visible
+        region
     }
 
     /// The boundary of the visible region as one closed loop of directed edges, or `None` if
     /// the region is not a disc (its boundary has several loops or touches itself).
-    fn horizon(&self, visible: &HashSet<usize>) -> Option<Vec<(u32, u32)>> {
+    fn horizon(&self, visible: &[usize]) -> Option<Vec<(u32, u32)>> {
+        let members: HashSet<usize> = visible.iter().copied().collect();
         let mut next = HashMap::new();
+        let mut start = None;
         for &t in visible {
             for (a, b) in self.triangles[t].edges() {
                 let across = self.edge_owner[&(b, a)];
-                if !visible.contains(&across) && next.insert(a, b).is_some() {
-                    return None;
+                if !members.contains(&across) {
+                    if next.insert(a, b).is_some() {
+                        return None;
+                    }
+                    start.get_or_insert(a);
                 }
             }
         }
-        let &start = next.keys().next()?;
+        let start = start?;
         let mut loop_edges = Vec::with_capacity(next.len());
         let mut from = start;
         loop {
@@ -637,10 +700,13 @@ impl<'a> TriangleMesh<'a> {
     }
 }
 
-/// Whether the polygons form a closed surface of sphere topology (V − E + F = 2) with convex,
-/// counter-clockwise faces, and no face has a vertex of a neighbouring face above its plane by
-/// more than `on_plane`. A closed surface convex at every edge is the boundary of a convex
-/// solid, so this certifies the hull without testing every input point.
+/// Whether the polygons bound a convex solid: a closed, consistently wound surface of sphere
+/// topology (V − E + F = 2) whose faces are convex and counter-clockwise, which is convex
+/// across every edge (no vertex of a neighbouring face above a face's plane by more than
+/// `on_plane`, and no two nearly coplanar faces folded onto each other) and at every vertex
+/// (face angles summing to less than a full turn, so the surface does not wind around it
+/// twice). A closed surface locally convex at every edge and vertex bounds a convex solid, so
+/// this certifies the hull without testing every input point against every face.
 fn is_closed_and_convex(points: &[DVec3], polygons: &[Vec<u32>], on_plane: f64) -> bool {
     let mut edge_owner = HashMap::new();
     for (face, ring) in polygons.iter().enumerate() {
@@ -655,20 +721,35 @@ fn is_closed_and_convex(points: &[DVec3], polygons: &[Vec<u32>], on_plane: f64) 
     if vertex_count + polygons.len() != edge_count + 2 {
         return false;
     }
-    polygons.iter().all(|ring| {
+    let mut angle_at_vertex: HashMap<u32, f64> = HashMap::new();
+    let faces_convex = polygons.iter().all(|ring| {
         let face = face_with_plane(points, ring.clone());
-        let corners: Vec<DVec3> = ring.iter().map(|&v| points[v as usize]).collect();
-        let turns_left = (0..corners.len()).all(|i| {
-            let [a, b, c] = [0, 1, 2].map(|k| corners[(i + k) % corners.len()]);
+        let corner = |i: usize| points[ring[i % ring.len()] as usize];
+        let turns_left = (0..ring.len()).all(|i| {
+            let (a, b, c) = (corner(i), corner(i + 1), corner(i + 2));
+            *angle_at_vertex
+                .entry(ring[(i + 1) % ring.len()])
+                .or_default() += (a - b).angle_between(c - b);
             (b - a).cross(c - b).dot(face.normal) > 0.0
         });
-        let neighbours_below = ring_edges(ring).all(|(a, b)| {
+        let edges_convex = ring_edges(ring).all(|(a, b)| {
             edge_owner.get(&(b, a)).is_some_and(|&across| {
+                let (start, end) = (points[a as usize], points[b as usize]);
+                // Points into the face, perpendicular to the edge, |b − a| long.
+                let inward = face.normal.cross(end - start);
                 polygons[across].iter().all(|&v| {
-                    height_above(face.normal, face.offset, points[v as usize]) <= on_plane
+                    let p = points[v as usize];
+                    let height = height_above(face.normal, face.offset, p);
+                    let folded = height > -on_plane
+                        && inward.dot(p - start) > on_plane * (end - start).length();
+                    height <= on_plane && !folded
                 })
             })
         });
-        turns_left && neighbours_below
-    })
+        turns_left && edges_convex
+    });
+    // Rounding in a nearly flat vertex's angles is far below this margin; a doubly wound
+    // vertex exceeds a full turn by a large fraction of it.
+    let full_turn = 2.0 * std::f64::consts::PI + 1e-9;
+    faces_convex && angle_at_vertex.values().all(|&angle| angle < full_turn)
 }
