@@ -101,16 +101,16 @@ impl ConvexHull {
             return Err(HullError::NotFinite(index));
         }
         let (unit_cloud, tolerance) = normalized(points)?;
+        let simplex = initial_simplex(&unit_cloud, tolerance.on_plane)?;
         // Points that stray from a common plane by about the tolerance can fool a single
         // pass; they are very unlikely to do so at tolerances a decade apart.
-        let mut last_error = HullError::Degenerate("no consistent convex surface");
-        for scale in [1.0, 10.0, 100.0, 0.1] {
-            match hull_polygons(&unit_cloud, tolerance.scaled(scale)) {
-                Ok(polygons) => return Ok(Self::from_polygons(points, &polygons)),
-                Err(error) => last_error = error,
-            }
-        }
-        Err(last_error)
+        [1.0, 10.0, 100.0, 0.1]
+            .into_iter()
+            .find_map(|factor| hull_polygons(&unit_cloud, simplex, tolerance.scaled(factor)))
+            .map(|polygons| Self::from_polygons(points, &polygons))
+            .ok_or(HullError::Degenerate(
+                "too thin or too nearly coplanar to resolve in f64",
+            ))
     }
 
     /// A box centred on the origin, as a hull with 6 quads (for face-based collision).
@@ -247,15 +247,15 @@ impl ConvexHull {
 }
 
 /// The hull's faces over the normalized cloud, certified convex.
-fn hull_polygons(unit_cloud: &[DVec3], tolerance: Tolerance) -> Result<Vec<Vec<u32>>, HullError> {
-    let triangles = Quickhull::new(unit_cloud, tolerance)?.run();
+/// `None` if rounding defeated this attempt.
+fn hull_polygons(
+    unit_cloud: &[DVec3],
+    simplex: [u32; 4],
+    tolerance: Tolerance,
+) -> Option<Vec<Vec<u32>>> {
+    let triangles = Quickhull::new(unit_cloud, simplex, tolerance).run();
     let polygons = merge_coplanar(unit_cloud, &triangles, tolerance.on_plane)?;
-    if !is_closed_and_convex(unit_cloud, &polygons, tolerance.on_plane) {
-        return Err(HullError::Degenerate(
-            "too thin or too nearly coplanar to resolve in f64",
-        ));
-    }
-    Ok(polygons)
+    is_closed_and_convex(unit_cloud, &polygons, tolerance.on_plane).then_some(polygons)
 }
 
 /// The plane of a polygon by Newell's method, which averages over all its vertices and so
@@ -352,8 +352,7 @@ struct Quickhull<'a> {
 }
 
 impl<'a> Quickhull<'a> {
-    fn new(points: &'a [DVec3], tolerance: Tolerance) -> Result<Self, HullError> {
-        let simplex = initial_simplex(points, tolerance.on_plane)?;
+    fn new(points: &'a [DVec3], simplex: [u32; 4], tolerance: Tolerance) -> Self {
         let mut hull = Quickhull {
             points,
             tolerance,
@@ -376,7 +375,7 @@ impl<'a> Quickhull<'a> {
         let first_faces: Vec<usize> = (0..4).collect();
         let others = (0..points.len() as u32).filter(|i| !simplex.contains(i));
         hull.assign_outside(others, &first_faces);
-        Ok(hull)
+        hull
     }
 
     /// Adds the farthest outside point of some triangle until no triangle has any; returns
@@ -571,12 +570,12 @@ fn initial_simplex(points: &[DVec3], on_plane: f64) -> Result<[u32; 4], HullErro
 
 /// Groups the triangles of a closed hull into planar regions and returns each region's
 /// boundary as a counter-clockwise polygon, keeping only vertices where three or more
-/// polygons meet.
+/// polygons meet; `None` if that leaves a polygon with fewer than 3 corners.
 fn merge_coplanar(
     points: &[DVec3],
     triangles: &[[u32; 3]],
     on_plane: f64,
-) -> Result<Vec<Vec<u32>>, HullError> {
+) -> Option<Vec<Vec<u32>>> {
     let mesh = TriangleMesh::new(points, triangles);
     let regions = mesh.coplanar_regions(on_plane);
     let mut polygons: Vec<Vec<u32>> = Vec::new();
@@ -592,14 +591,15 @@ fn merge_coplanar(
     for &v in polygons.iter().flatten() {
         *faces_at_vertex.entry(v).or_default() += 1;
     }
-    // A vertex on only two faces lies on the straight edge between them.
+    // A vertex on only two faces lies on the straight edge between them. If that leaves a
+    // face with fewer than 3 corners, the merge was inconsistent.
     for polygon in &mut polygons {
         polygon.retain(|v| faces_at_vertex[v] >= 3);
-        if polygon.len() < 3 {
-            return Err(HullError::Degenerate("a face collapsed while merging"));
-        }
     }
-    Ok(polygons)
+    polygons
+        .iter()
+        .all(|polygon| polygon.len() >= 3)
+        .then_some(polygons)
 }
 
 /// A closed, consistently wound triangle mesh with edge adjacency.
