@@ -8,8 +8,10 @@
 //!    `on_plane` outside, so duplicate, coplanar and mid-edge points never create slivers,
 //!    and each new point replaces exactly the triangles it sees (above `visible`);
 //! 3. coplanar triangles are merged into convex polygons, vertices left on only two
-//!    polygons (points in the middle of an edge) are dropped, and the result is checked to be
-//!    a closed, locally convex surface.
+//!    polygons (points in the middle of an edge) are dropped, and the result is certified:
+//!    a closed surface convex at every edge and vertex that holds every input point. Points
+//!    that stray from a common plane by about the tolerance can defeat a pass; it is then
+//!    repeated at tolerances a decade apart.
 
 use std::collections::{HashMap, HashSet};
 
@@ -102,8 +104,6 @@ impl ConvexHull {
         }
         let (unit_cloud, tolerance) = normalized(points)?;
         let simplex = initial_simplex(&unit_cloud, tolerance.on_plane)?;
-        // Points that stray from a common plane by about the tolerance can fool a single
-        // pass; they are very unlikely to do so at tolerances a decade apart.
         [1.0, 10.0, 100.0, 0.1]
             .into_iter()
             .find_map(|factor| hull_polygons(&unit_cloud, simplex, tolerance.scaled(factor)))
@@ -255,7 +255,26 @@ fn hull_polygons(
 ) -> Option<Vec<Vec<u32>>> {
     let triangles = Quickhull::new(unit_cloud, simplex, tolerance).run();
     let polygons = merge_coplanar(unit_cloud, &triangles, tolerance.on_plane)?;
-    is_closed_and_convex(unit_cloud, &polygons, tolerance.on_plane).then_some(polygons)
+    let affordable = unit_cloud.len() * polygons.len() <= CONTAINMENT_CHECK_BUDGET;
+    let certified = is_closed_and_convex(unit_cloud, &polygons, tolerance.on_plane)
+        && (!affordable || contains_all(unit_cloud, &polygons, tolerance.on_plane));
+    certified.then_some(polygons)
+}
+
+/// Point-face pairs up to which every input point is checked against every face of the
+/// result (about 10 ms); beyond it the local convexity certificate alone vouches for the hull.
+const CONTAINMENT_CHECK_BUDGET: usize = 10_000_000;
+
+/// Whether no point lies above any polygon's plane by more than a few `on_plane`: the
+/// refitted plane of a merged face may sit up to about `on_plane` from points that were
+/// counted as on it.
+fn contains_all(points: &[DVec3], polygons: &[Vec<u32>], on_plane: f64) -> bool {
+    polygons.iter().all(|ring| {
+        let face = face_with_plane(points, ring.clone());
+        points
+            .iter()
+            .all(|&p| height_above(face.normal, face.offset, p) <= 4.0 * on_plane)
+    })
 }
 
 /// The plane of a polygon by Newell's method, which averages over all its vertices and so
@@ -425,7 +444,12 @@ impl<'a> Quickhull<'a> {
             .iter()
             .map(|&(a, b)| self.add_triangle([a, b, apex]))
             .collect();
-        self.assign_outside(orphans.into_iter().filter(|&p| p != apex), &cone);
+        // In exact arithmetic an orphan outside the new hull is above a cone triangle. Where
+        // rounding bends that rule, it is above a triangle just beyond the horizon instead:
+        // offering those too keeps such points from being lost.
+        let beyond_horizon = horizon.iter().map(|&(a, b)| self.edge_owner[&(b, a)]);
+        let candidates: Vec<usize> = cone.iter().copied().chain(beyond_horizon).collect();
+        self.assign_outside(orphans.into_iter().filter(|&p| p != apex), &candidates);
     }
 
     /// Triangles reachable from `start` across edges whose plane `apex` is above by more than
