@@ -104,6 +104,7 @@ impl ConvexHull {
         }
         let (unit_cloud, tolerance) = normalized(points)?;
         let simplex = initial_simplex(&unit_cloud, tolerance.on_plane)?;
+        // A pass that fails its certificate is repeated at tolerances a decade apart.
         [1.0, 10.0, 100.0, 0.1]
             .into_iter()
             .find_map(|factor| hull_polygons(&unit_cloud, simplex, tolerance.scaled(factor)))
@@ -246,8 +247,8 @@ impl ConvexHull {
     }
 }
 
-/// The hull's faces over the normalized cloud, certified convex.
-/// `None` if rounding defeated this attempt.
+/// The hull's faces over the normalized cloud, certified convex, or `None` if rounding
+/// defeated this attempt.
 fn hull_polygons(
     unit_cloud: &[DVec3],
     simplex: [u32; 4],
