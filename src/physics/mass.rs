@@ -56,8 +56,59 @@ impl MassProperties {
 
 /// m (|d|² I − d dᵀ): what moving the reference point by `d` adds to an inertia tensor.
 pub fn parallel_axis_term(mass: f64, d: DVec3) -> DMat3 {
-    let outer = DMat3::from_cols(d * d.x, d * d.y, d * d.z);
-    (DMat3::IDENTITY * d.length_squared() - outer) * mass
+    (DMat3::IDENTITY * d.length_squared() - outer(d, d)) * mass
+}
+
+/// a bᵀ
+fn outer(a: DVec3, b: DVec3) -> DMat3 {
+    DMat3::from_cols(a * b.x, a * b.y, a * b.z)
+}
+
+/// Mass properties of a closed polyhedron whose faces are convex polygons over `vertices`,
+/// counter-clockwise seen from outside.
+///
+/// Each face is fanned into triangles, and each triangle (a, b, c) closes a tetrahedron with a
+/// reference point r, taken as the origin below. Summing the tetrahedra's signed integrals
+/// gives the solid's (the divergence theorem: the triangles cover the closed surface once,
+/// so everything outside the solid cancels). For the tetrahedron (0, a, b, c):
+/// - volume V = a · (b × c) / 6,
+/// - first moment ∫x dV = V (a + b + c) / 4 (its centroid times its volume),
+/// - second moment ∫x xᵀ dV = V/20 (a aᵀ + b bᵀ + c cᵀ + s sᵀ) with s = a + b + c: the map
+///   x = a u + b v + c w (Jacobian 6V) sends the unit corner simplex onto it, and over that
+///   simplex ∫u² = 2/5! and ∫uv = 1/5!, so ∫x xᵀ = 6V/120 (2 Σ p pᵀ + Σ_{p≠q} p qᵀ).
+///
+/// The inertia about the centre is then ρ (tr(S) I − S) with S = ∫(x − c)(x − c)ᵀ dV.
+pub(crate) fn polyhedron<'a>(
+    vertices: &[DVec3],
+    faces: impl Iterator<Item = &'a [u32]>,
+    density: f64,
+) -> MassProperties {
+    // Integrating about a point inside the solid keeps every term small: less cancellation.
+    let reference = vertices.iter().sum::<DVec3>() / vertices.len().max(1) as f64;
+    let mut volume = 0.0;
+    let mut first = DVec3::ZERO;
+    let mut second = DMat3::ZERO;
+    for face in faces {
+        let corner = |i: u32| vertices[i as usize] - reference;
+        let a = corner(face[0]);
+        for pair in face[1..].windows(2) {
+            let (b, c) = (corner(pair[0]), corner(pair[1]));
+            let tetra_volume = a.dot(b.cross(c)) / 6.0;
+            let s = a + b + c;
+            volume += tetra_volume;
+            first += s * (tetra_volume / 4.0);
+            second +=
+                (outer(a, a) + outer(b, b) + outer(c, c) + outer(s, s)) * (tetra_volume / 20.0);
+        }
+    }
+    let centroid = first / volume;
+    let central = second - outer(centroid, centroid) * volume;
+    let trace = central.x_axis.x + central.y_axis.y + central.z_axis.z;
+    MassProperties {
+        mass: density * volume,
+        center: reference + centroid,
+        inertia: (DMat3::IDENTITY * trace - central) * density,
+    }
 }
 
 fn diagonal(ixx: f64, iyy: f64, izz: f64) -> DMat3 {
