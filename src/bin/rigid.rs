@@ -9,7 +9,7 @@ use clap::{Parser, Subcommand};
 use rigid::render::Overlays;
 use rigid::render::gpu::Gpu;
 use rigid::render::headless;
-use rigid::sim::{DEFAULT_SCENE, SCENE_NAMES};
+use rigid::sim::{DEFAULT_SCENE, scene_names};
 
 #[derive(Parser)]
 #[command(version, about = "Real-time rigid-body physics viewer")]
@@ -57,7 +57,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Scenes) => {
-            println!("{}", SCENE_NAMES.join("\n"));
+            println!("{}", scene_names().collect::<Vec<_>>().join("\n"));
             Ok(())
         }
         Some(Command::Render {

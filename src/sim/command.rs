@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::physics::Integrator;
+use crate::physics::{Integrator, Pipeline};
 
 /// The primitive a spawn button creates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,7 +40,7 @@ pub enum Command {
     StepOnce,
     /// Rebuilds the current scene from scratch.
     Reset,
-    /// Replaces the world by a named scene (see `scenes::SCENE_NAMES`).
+    /// Replaces the world by a built-in scene (see `scenes::scene_names`) or a scene file.
     LoadScene(String),
     /// Replaces every gravity field by this acceleration (m/s²).
     SetGravity(DVec3),
@@ -53,6 +53,11 @@ pub enum Command {
     /// Simulated seconds per wall-clock second.
     SetTimeScale(f64),
     SetIntegrator(Integrator),
+    /// The contact pipeline: the soft solver or the report's classic method.
+    SetPipeline(Pipeline),
+    /// Substeps (soft) or slices (classic) per step.
+    SetSubsteps(u32),
+    SetSleeping(bool),
     Spawn {
         kind: SpawnKind,
         position: DVec3,

@@ -13,7 +13,7 @@ pub mod snapshot;
 pub mod thread;
 
 pub use command::{Command, SpawnKind};
-pub use scenes::{CameraHint, DEFAULT_SCENE, SCENE_NAMES, SceneSetup};
+pub use scenes::{CameraHint, DEFAULT_SCENE, SceneSetup, scene_names};
 pub use simulation::Simulation;
 pub use snapshot::{BodyState, Counters, HistorySample, LineSegment, ShapeTable, Snapshot};
 pub use thread::SimHandle;

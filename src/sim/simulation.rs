@@ -6,13 +6,13 @@ use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use glam::{DQuat, DVec3};
+use glam::{DQuat, DVec3, Vec3};
 
 use crate::physics::{BodyDesc, BodyId, EnvironmentForce, Material, RigidBody, Shape, World};
 use crate::sim::command::{Command, SpawnKind};
 use crate::sim::scenes::{self, CameraHint};
 use crate::sim::snapshot::{
-    BodyPose, BodyState, Counters, HistorySample, ShapeTable, SimSettings, Snapshot,
+    BodyPose, BodyState, Counters, HistorySample, LineSegment, ShapeTable, SimSettings, Snapshot,
 };
 
 /// Simulated seconds between two plotted samples, and how many are kept (20 s of history).
@@ -52,6 +52,9 @@ impl Simulation {
             paused: false,
             gravity: DVec3::ZERO,
             integrator: setup.world.settings.integrator,
+            pipeline: setup.world.settings.pipeline,
+            substeps: setup.world.settings.solver.substeps,
+            sleeping: setup.world.settings.sleep.enabled,
             restitution: Material::default().restitution,
             friction: Material::default().friction,
         };
@@ -100,6 +103,18 @@ impl Simulation {
                 self.settings.integrator = integrator;
                 self.world.settings.integrator = integrator;
             }
+            Command::SetPipeline(pipeline) => {
+                self.settings.pipeline = pipeline;
+                self.apply_world_settings();
+            }
+            Command::SetSubsteps(substeps) => {
+                self.settings.substeps = substeps.clamp(1, 64);
+                self.apply_world_settings();
+            }
+            Command::SetSleeping(enabled) => {
+                self.settings.sleeping = enabled;
+                self.apply_world_settings();
+            }
             Command::Spawn {
                 kind,
                 position,
@@ -145,7 +160,7 @@ impl Simulation {
             camera: self.camera,
             bodies,
             shapes: self.shapes.clone(),
-            lines: Vec::new(),
+            lines: contact_lines(&self.world),
             counters: self.counters(),
             history: self.history.iter().copied().collect(),
             settings: self.settings,
@@ -153,6 +168,16 @@ impl Simulation {
             published_at,
             step_interval,
         }
+    }
+
+    /// Run settings that live in the world's own settings.
+    fn apply_world_settings(&mut self) {
+        let world = &mut self.world.settings;
+        world.integrator = self.settings.integrator;
+        world.pipeline = self.settings.pipeline;
+        world.solver.substeps = self.settings.substeps;
+        world.classic.substeps = self.settings.substeps;
+        world.sleep.enabled = self.settings.sleeping;
     }
 
     fn counters(&self) -> Counters {
@@ -183,7 +208,7 @@ impl Simulation {
         self.scene = name.to_string();
         self.camera = setup.camera;
         self.world = setup.world;
-        self.world.settings.integrator = self.settings.integrator;
+        self.apply_world_settings();
         self.settings.gravity = gravity_of(&self.world);
         if let Some(body) = self.world.bodies().iter().find(|b| b.is_dynamic()) {
             self.settings.restitution = body.material.restitution;
@@ -341,7 +366,7 @@ fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32) -> BodyState 
             0.0
         },
         is_dynamic: body.is_dynamic(),
-        sleeping: false,
+        sleeping: body.sleeping,
         velocity: body.velocity().as_vec3(),
         angular_velocity: body.angular_velocity().as_vec3(),
     }
@@ -488,4 +513,32 @@ mod tests {
         assert_eq!(snap.scene, "falling_box");
         assert!(snap.message.unwrap().contains("nope"));
     }
+}
+
+/// Length of a drawn contact normal, m.
+const NORMAL_LENGTH: f32 = 0.25;
+/// Half size of the cross drawn at a contact point, m.
+const POINT_SIZE: f32 = 0.03;
+const CONTACT_COLOR: [f32; 3] = [1.0, 0.85, 0.1];
+const NORMAL_COLOR: [f32; 3] = [1.0, 0.35, 0.1];
+
+/// A small cross at each contact point and its normal (from A towards B).
+fn contact_lines(world: &World) -> Vec<LineSegment> {
+    let mut lines = Vec::new();
+    for contact in world.contacts().iter().flat_map(|m| &m.contacts) {
+        let point = contact.position.as_vec3();
+        for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
+            lines.push(LineSegment {
+                from: point - axis * POINT_SIZE,
+                to: point + axis * POINT_SIZE,
+                color: CONTACT_COLOR,
+            });
+        }
+        lines.push(LineSegment {
+            from: point,
+            to: point + contact.normal.as_vec3() * NORMAL_LENGTH,
+            color: NORMAL_COLOR,
+        });
+    }
+    lines
 }

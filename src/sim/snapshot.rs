@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use glam::{Quat, Vec3};
 
-use crate::physics::{Integrator, Shape};
+use crate::physics::{Integrator, Pipeline, Shape};
 use crate::sim::scenes::CameraHint;
 
 /// Position of the shape's own origin and its orientation: what a mesh needs.
@@ -41,7 +41,7 @@ pub struct BodyState {
     /// kg; 0 for static bodies.
     pub mass: f32,
     pub is_dynamic: bool,
-    /// Always false until the engine has sleeping islands.
+    /// Asleep: drawn in the sleep colour.
     pub sleeping: bool,
     pub velocity: Vec3,
     pub angular_velocity: Vec3,
@@ -96,6 +96,9 @@ pub struct SimSettings {
     pub paused: bool,
     pub gravity: glam::DVec3,
     pub integrator: Integrator,
+    pub pipeline: Pipeline,
+    pub substeps: u32,
+    pub sleeping: bool,
     pub restitution: f64,
     pub friction: f64,
 }
@@ -108,7 +111,7 @@ pub struct Snapshot {
     pub camera: CameraHint,
     pub bodies: Vec<BodyState>,
     pub shapes: ShapeTable,
-    /// Overlay lines filled by the contact stage once it exists.
+    /// Contact points (small crosses) and normals of the last step.
     pub lines: Vec<LineSegment>,
     pub counters: Counters,
     pub history: Vec<HistorySample>,

@@ -3,9 +3,9 @@
 
 use glam::DVec3;
 
-use crate::physics::Integrator;
+use crate::physics::{Integrator, Pipeline};
 use crate::render::Overlays;
-use crate::sim::{Command, SCENE_NAMES, Snapshot, SpawnKind};
+use crate::sim::{Command, Snapshot, SpawnKind, scene_names};
 use crate::ui::plots;
 
 pub const PANEL_WIDTH: f32 = 290.0;
@@ -28,6 +28,9 @@ pub struct Panel {
     rate_hz: f64,
     time_scale: f64,
     integrator: Integrator,
+    pipeline: Pipeline,
+    substeps: u32,
+    sleeping: bool,
     synced_generation: Option<u64>,
     spawned: u32,
 }
@@ -43,6 +46,9 @@ impl Default for Panel {
             rate_hz: 120.0,
             time_scale: 1.0,
             integrator: Integrator::default(),
+            pipeline: Pipeline::default(),
+            substeps: 8,
+            sleeping: true,
             synced_generation: None,
             spawned: 0,
         }
@@ -98,6 +104,9 @@ impl Panel {
         self.rate_hz = 1.0 / s.dt;
         self.time_scale = s.time_scale;
         self.integrator = s.integrator;
+        self.pipeline = s.pipeline;
+        self.substeps = s.substeps;
+        self.sleeping = s.sleeping;
         self.synced_generation = Some(snapshot.world_generation);
     }
 
@@ -105,8 +114,8 @@ impl Panel {
         egui::ComboBox::from_label("scene")
             .selected_text(self.scene.as_str())
             .show_ui(ui, |ui| {
-                for name in SCENE_NAMES {
-                    if ui.selectable_label(self.scene == *name, *name).clicked() {
+                for name in scene_names() {
+                    if ui.selectable_label(self.scene == name, name).clicked() {
                         self.scene = name.to_string();
                         out.push(Command::LoadScene(name.to_string()));
                     }
@@ -150,6 +159,27 @@ impl Panel {
                     }
                 }
             });
+        egui::ComboBox::from_label("pipeline")
+            .selected_text(pipeline_name(self.pipeline))
+            .show_ui(ui, |ui| {
+                for pipeline in [Pipeline::Soft, Pipeline::Classic] {
+                    let selected = self.pipeline == pipeline;
+                    if ui
+                        .selectable_label(selected, pipeline_name(pipeline))
+                        .clicked()
+                    {
+                        self.pipeline = pipeline;
+                        out.push(Command::SetPipeline(pipeline));
+                    }
+                }
+            });
+        let substeps = egui::Slider::new(&mut self.substeps, 1..=32).text("substeps");
+        if ui.add(substeps).changed() {
+            out.push(Command::SetSubsteps(self.substeps));
+        }
+        if ui.checkbox(&mut self.sleeping, "sleeping").changed() {
+            out.push(Command::SetSleeping(self.sleeping));
+        }
     }
 
     fn spawn_section(&mut self, ui: &mut egui::Ui, snapshot: &Snapshot, out: &mut Vec<Command>) {
@@ -275,4 +305,11 @@ fn spawn_point(snapshot: &Snapshot, count: u32) -> DVec3 {
         (top + 1.5) as f64,
         (target.z + spread * angle.sin()) as f64,
     )
+}
+
+fn pipeline_name(pipeline: Pipeline) -> &'static str {
+    match pipeline {
+        Pipeline::Soft => "soft (substepped solver)",
+        Pipeline::Classic => "classic (the report's)",
+    }
 }
