@@ -1,0 +1,610 @@
+//! Contact generation (narrow phase): the contact points of one pair of convex shapes.
+//!
+//! - Polyhedra (cuboids, hulls): separating-axis test over the face normals of both shapes
+//!   and the cross products of their edges. A face axis gives a reference face and an
+//!   incident face, the incident polygon is clipped against the reference face's sides
+//!   (Sutherland–Hodgman) and reduced to at most 4 points by area. Kept incident vertices are
+//!   the report's vertex-face contacts, clip points its edge-edge contacts; an edge axis gives
+//!   one edge-edge contact.
+//! - Spheres and capsules, cylinders: closest features from GJK on the cores (EPA when the
+//!   cores overlap), plus the capsule's end points or the cylinder's rim points when they lie
+//!   flat along the other surface, so that lying shapes get a stable line or patch.
+//!
+//! Contacts are kept while their separation is at most `margin`: the report's tolerance θ
+//! between the rewind and the contact search, or a speculative distance.
+
+use glam::DVec3;
+
+use crate::physics::body::{BodyId, RigidBody};
+use crate::physics::contact::{
+    Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS,
+};
+use crate::physics::epa::signed_distance;
+use crate::physics::gjk::{PosedShape, SupportMap};
+use crate::physics::shape::Shape;
+
+/// The contacts of two bodies, normal from A to B, or None when they are farther apart
+/// than `margin`.
+pub fn contact_manifold(
+    a: &RigidBody,
+    id_a: BodyId,
+    b: &RigidBody,
+    id_b: BodyId,
+    margin: f64,
+) -> Option<ContactManifold> {
+    let contacts = generate_contacts(&PosedShape::of_body(a), &PosedShape::of_body(b), margin);
+    let first = contacts.first()?;
+    Some(ContactManifold {
+        body_a: id_a,
+        body_b: id_b,
+        normal: first.normal,
+        contacts,
+    })
+}
+
+/// The contacts of two placed shapes (deepest first, at most `MAX_MANIFOLD_POINTS`).
+pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
+    let mut contacts = match (Polyhedron::of(a), Polyhedron::of(b)) {
+        (Some(pa), Some(pb)) => polyhedron_contacts(&pa, &pb, margin),
+        _ => round_contacts(a, b, margin),
+    };
+    contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
+    reduce_by_area(contacts)
+}
+
+// ---------------------------------------------------------------------------------------
+// Polyhedra: separating axes and clipping.
+
+/// A polyhedron in world coordinates.
+struct Polyhedron {
+    vertices: Vec<DVec3>,
+    faces: Vec<Polygon>,
+    edges: Vec<[u32; 2]>,
+    centroid: DVec3,
+}
+
+struct Polygon {
+    vertices: Vec<u32>,
+    normal: DVec3,
+    offset: f64,
+}
+
+/// Vertex i of a box is at (±x, ±y, ±z) with bit 0, 1, 2 of i choosing the sign.
+const BOX_FACES: [([u32; 4], DVec3); 6] = [
+    ([0, 4, 6, 2], DVec3::NEG_X),
+    ([1, 3, 7, 5], DVec3::X),
+    ([0, 1, 5, 4], DVec3::NEG_Y),
+    ([2, 6, 7, 3], DVec3::Y),
+    ([0, 2, 3, 1], DVec3::NEG_Z),
+    ([4, 5, 7, 6], DVec3::Z),
+];
+const BOX_EDGES: [[u32; 2]; 12] = [
+    [0, 1],
+    [2, 3],
+    [4, 5],
+    [6, 7],
+    [0, 2],
+    [1, 3],
+    [4, 6],
+    [5, 7],
+    [0, 4],
+    [1, 5],
+    [2, 6],
+    [3, 7],
+];
+
+impl Polyhedron {
+    fn of(posed: &PosedShape) -> Option<Polyhedron> {
+        let to_world = |p: DVec3| posed.to_world(p);
+        let rotate = |n: DVec3| posed.rotation * n;
+        let (vertices, faces, edges): (Vec<DVec3>, Vec<(Vec<u32>, DVec3)>, Vec<[u32; 2]>) =
+            match posed.shape {
+                Shape::Cuboid { half_extents } => (
+                    (0..8)
+                        .map(|i| to_world(box_corner(*half_extents, i)))
+                        .collect(),
+                    BOX_FACES
+                        .iter()
+                        .map(|(v, n)| (v.to_vec(), rotate(*n)))
+                        .collect(),
+                    BOX_EDGES.to_vec(),
+                ),
+                Shape::ConvexHull(hull) => (
+                    hull.vertices.iter().map(|&p| to_world(p)).collect(),
+                    hull.faces
+                        .iter()
+                        .map(|f| (f.vertices.clone(), rotate(f.normal)))
+                        .collect(),
+                    hull.edges.clone(),
+                ),
+                _ => return None,
+            };
+        let faces = faces
+            .into_iter()
+            .map(|(indices, normal)| Polygon {
+                offset: normal.dot(vertices[indices[0] as usize]),
+                vertices: indices,
+                normal,
+            })
+            .collect();
+        let centroid = vertices.iter().sum::<DVec3>() / vertices.len() as f64;
+        Some(Polyhedron {
+            vertices,
+            faces,
+            edges,
+            centroid,
+        })
+    }
+
+    fn support_value(&self, direction: DVec3) -> f64 {
+        self.vertices
+            .iter()
+            .map(|v| v.dot(direction))
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+
+    fn size(&self) -> f64 {
+        self.vertices
+            .iter()
+            .map(|v| v.distance(self.centroid))
+            .fold(0.0, f64::max)
+    }
+}
+
+fn box_corner(h: DVec3, i: u32) -> DVec3 {
+    let sign = |bit: u32| if i & bit == 0 { -1.0 } else { 1.0 };
+    DVec3::new(sign(1) * h.x, sign(2) * h.y, sign(4) * h.z)
+}
+
+/// The best axis found by the separating-axis test.
+#[derive(Clone, Copy, Debug)]
+enum Axis {
+    /// A face of A (`true`) or of B, by index.
+    Face {
+        of_a: bool,
+        face: usize,
+        separation: f64,
+    },
+    /// Edge i of A and edge j of B, with the unit axis from A to B.
+    Edges {
+        edge_a: usize,
+        edge_b: usize,
+        axis: DVec3,
+        separation: f64,
+    },
+}
+
+impl Axis {
+    fn separation(&self) -> f64 {
+        match *self {
+            Axis::Face { separation, .. } | Axis::Edges { separation, .. } => separation,
+        }
+    }
+}
+
+/// A face or edge axis must beat the previous best by this fraction of the smaller shape's
+/// size to be taken: faces are preferred over edges, and A's faces over B's, so that the
+/// choice does not flicker between nearly equal axes from one step to the next.
+const AXIS_PREFERENCE: f64 = 1e-3;
+
+fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64) -> Vec<Contact> {
+    let slop = AXIS_PREFERENCE * a.size().min(b.size());
+    let face_a = best_face_axis(a, b, true);
+    if face_a.separation() > margin {
+        return Vec::new();
+    }
+    let face_b = best_face_axis(b, a, false);
+    if face_b.separation() > margin {
+        return Vec::new();
+    }
+    let mut best = if face_b.separation() > face_a.separation() + slop {
+        face_b
+    } else {
+        face_a
+    };
+    if let Some(edges) = best_edge_axis(a, b) {
+        if edges.separation() > margin {
+            return Vec::new();
+        }
+        if edges.separation() > best.separation() + slop {
+            best = edges;
+        }
+    }
+    match best {
+        Axis::Face {
+            of_a: true, face, ..
+        } => clip_contacts(a, face, b, true, margin),
+        Axis::Face {
+            of_a: false, face, ..
+        } => clip_contacts(b, face, a, false, margin),
+        Axis::Edges {
+            edge_a,
+            edge_b,
+            axis,
+            separation,
+        } => {
+            vec![edge_contact(a, edge_a, b, edge_b, axis, separation)]
+        }
+    }
+}
+
+/// The face of `owner` along whose normal `other` is farthest out (largest separation).
+fn best_face_axis(owner: &Polyhedron, other: &Polyhedron, of_a: bool) -> Axis {
+    let (face, separation) = owner
+        .faces
+        .iter()
+        .map(|f| -other.support_value(-f.normal) - f.offset)
+        .enumerate()
+        .max_by(|x, y| x.1.total_cmp(&y.1))
+        .expect("a polyhedron has faces");
+    Axis::Face {
+        of_a,
+        face,
+        separation,
+    }
+}
+
+/// The edge pair with the largest separation along the cross product of the edges, among
+/// pairs where both edges are the supporting features along that axis (a real edge-edge
+/// configuration, not a parallel edge elsewhere on the shape).
+fn best_edge_axis(a: &Polyhedron, b: &Polyhedron) -> Option<Axis> {
+    let mut best: Option<Axis> = None;
+    let size = a.size().max(b.size());
+    for (i, ea) in a.edges.iter().enumerate() {
+        let (a0, a1) = (a.vertices[ea[0] as usize], a.vertices[ea[1] as usize]);
+        for (j, eb) in b.edges.iter().enumerate() {
+            let (b0, b1) = (b.vertices[eb[0] as usize], b.vertices[eb[1] as usize]);
+            let cross = (a1 - a0).cross(b1 - b0);
+            let length = cross.length();
+            if length <= 1e-9 * (a1 - a0).length() * (b1 - b0).length() {
+                continue; // parallel edges: covered by the face axes
+            }
+            // Either orientation may be the one from A to B; the right one separates more.
+            for axis in [cross / length, -cross / length] {
+                let reach_a = a.support_value(axis);
+                let reach_b = -b.support_value(-axis);
+                let supporting = 1e-9 * size;
+                if reach_a - axis.dot(a0) > supporting || axis.dot(b0) - reach_b > supporting {
+                    continue;
+                }
+                let separation = reach_b - reach_a;
+                if best.is_none_or(|current| separation > current.separation()) {
+                    best = Some(Axis::Edges {
+                        edge_a: i,
+                        edge_b: j,
+                        axis,
+                        separation,
+                    });
+                }
+            }
+        }
+    }
+    best
+}
+
+/// Feature ids: a face index, a vertex index or an edge index, tagged so they never collide.
+const VERTEX_TAG: u32 = 1 << 28;
+const EDGE_TAG: u32 = 2 << 28;
+
+fn edge_contact(
+    a: &Polyhedron,
+    edge_a: usize,
+    b: &Polyhedron,
+    edge_b: usize,
+    axis: DVec3,
+    separation: f64,
+) -> Contact {
+    let [i, j] = a.edges[edge_a].map(|k| a.vertices[k as usize]);
+    let [k, l] = b.edges[edge_b].map(|m| b.vertices[m as usize]);
+    let (pa, pb) = closest_points_of_segments(i, j, k, l);
+    Contact {
+        position: 0.5 * (pa + pb),
+        normal: axis,
+        separation,
+        kind: ContactKind::EdgeEdge,
+        feature: FeatureId {
+            on_a: EDGE_TAG | edge_a as u32,
+            on_b: EDGE_TAG | edge_b as u32,
+        },
+        time_of_impact: 0.0,
+    }
+}
+
+/// Closest points of segments [p0, p1] and [q0, q1] (both of positive length).
+pub fn closest_points_of_segments(p0: DVec3, p1: DVec3, q0: DVec3, q1: DVec3) -> (DVec3, DVec3) {
+    let (d1, d2, r) = (p1 - p0, q1 - q0, p0 - q0);
+    let (a, e, f) = (d1.dot(d1), d2.dot(d2), d2.dot(r));
+    let (b, c) = (d1.dot(d2), d1.dot(r));
+    let denom = a * e - b * b;
+    // Parallel segments: any s works; take the start of the first one.
+    let mut s = if denom > 1e-14 * a * e {
+        ((b * f - c * e) / denom).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let mut t = (b * s + f) / e;
+    if t < 0.0 {
+        t = 0.0;
+        s = (-c / a).clamp(0.0, 1.0);
+    } else if t > 1.0 {
+        t = 1.0;
+        s = ((b - c) / a).clamp(0.0, 1.0);
+    }
+    (p0 + d1 * s, q0 + d2 * t)
+}
+
+/// A point of the incident polygon with where it came from.
+#[derive(Clone, Copy, Debug)]
+struct ClipPoint {
+    position: DVec3,
+    /// On the incident shape: a vertex, or an edge cut by a side of the reference face.
+    incident_feature: u32,
+    /// On the reference shape: the face, or the side that cut the edge.
+    reference_feature: u32,
+    kind: ContactKind,
+}
+
+/// Clips the incident face of `incident` against reference face `face` of `reference`.
+fn clip_contacts(
+    reference: &Polyhedron,
+    face: usize,
+    incident: &Polyhedron,
+    reference_is_a: bool,
+    margin: f64,
+) -> Vec<Contact> {
+    let ref_face = &reference.faces[face];
+    let normal = ref_face.normal;
+    let incident_face = incident
+        .faces
+        .iter()
+        .min_by(|x, y| x.normal.dot(normal).total_cmp(&y.normal.dot(normal)))
+        .expect("a polyhedron has faces");
+    let mut polygon: Vec<ClipPoint> = incident_face
+        .vertices
+        .iter()
+        .map(|&i| ClipPoint {
+            position: incident.vertices[i as usize],
+            incident_feature: VERTEX_TAG | i,
+            reference_feature: face as u32,
+            kind: ContactKind::VertexFace,
+        })
+        .collect();
+    let corners: Vec<DVec3> = ref_face
+        .vertices
+        .iter()
+        .map(|&i| reference.vertices[i as usize])
+        .collect();
+    let center = corners.iter().sum::<DVec3>() / corners.len() as f64;
+    for (side, &start) in corners.iter().enumerate() {
+        let end = corners[(side + 1) % corners.len()];
+        let mut plane = (end - start).cross(normal).normalize_or_zero();
+        if plane.dot(start - center) < 0.0 {
+            plane = -plane;
+        }
+        let tag = EDGE_TAG | ((face as u32) << 8) | side as u32;
+        polygon = clip_polygon(&polygon, plane, plane.dot(start), tag);
+    }
+    let sign = if reference_is_a { 1.0 } else { -1.0 };
+    polygon
+        .iter()
+        .filter_map(|p| {
+            let separation = normal.dot(p.position) - ref_face.offset;
+            (separation <= margin).then(|| {
+                let (on_ref, on_inc) = (p.reference_feature, p.incident_feature);
+                let (on_a, on_b) = if reference_is_a {
+                    (on_ref, on_inc)
+                } else {
+                    (on_inc, on_ref)
+                };
+                Contact {
+                    position: p.position - normal * (0.5 * separation),
+                    normal: normal * sign,
+                    separation,
+                    kind: p.kind,
+                    feature: FeatureId { on_a, on_b },
+                    time_of_impact: 0.0,
+                }
+            })
+        })
+        .collect()
+}
+
+/// Sutherland–Hodgman against one plane: keeps the part with `plane · x ≤ offset`.
+fn clip_polygon(polygon: &[ClipPoint], plane: DVec3, offset: f64, side_tag: u32) -> Vec<ClipPoint> {
+    let mut out = Vec::with_capacity(polygon.len() + 1);
+    for (k, &p) in polygon.iter().enumerate() {
+        let q = polygon[(k + 1) % polygon.len()];
+        let (dp, dq) = (
+            plane.dot(p.position) - offset,
+            plane.dot(q.position) - offset,
+        );
+        if dp <= 0.0 {
+            out.push(p);
+        }
+        if (dp <= 0.0) != (dq <= 0.0) {
+            let t = dp / (dp - dq);
+            out.push(ClipPoint {
+                position: p.position + (q.position - p.position) * t,
+                incident_feature: EDGE_TAG
+                    | (p.incident_feature & 0xffff) << 12
+                    | (q.incident_feature & 0xfff),
+                reference_feature: side_tag,
+                kind: ContactKind::EdgeEdge,
+            });
+        }
+    }
+    out
+}
+
+/// Keeps at most 4 points spanning the largest area: the deepest, the farthest from it,
+/// then the two that make the largest triangles with those on either side.
+fn reduce_by_area(contacts: Vec<Contact>) -> Vec<Contact> {
+    if contacts.len() <= MAX_MANIFOLD_POINTS {
+        return contacts;
+    }
+    let normal = contacts[0].normal;
+    let position = |k: usize| contacts[k].position;
+    let first = 0; // sorted deepest first
+    let second = farthest_from(&contacts, position(first));
+    let signed_area = |k: usize| {
+        (position(second) - position(first))
+            .cross(position(k) - position(first))
+            .dot(normal)
+    };
+    let by_area = |pick: fn(f64) -> f64| {
+        (0..contacts.len())
+            .max_by(|&x, &y| pick(signed_area(x)).total_cmp(&pick(signed_area(y))))
+            .expect("more than 4 contacts")
+    };
+    let third = by_area(|area| area);
+    let fourth = by_area(|area| -area);
+    let mut keep = vec![first, second, third, fourth];
+    keep.sort_unstable();
+    keep.dedup();
+    keep.into_iter().map(|k| contacts[k]).collect()
+}
+
+fn farthest_from(contacts: &[Contact], point: DVec3) -> usize {
+    (0..contacts.len())
+        .max_by(|&x, &y| {
+            let dx = contacts[x].position.distance_squared(point);
+            dx.total_cmp(&contacts[y].position.distance_squared(point))
+        })
+        .expect("contacts are not empty")
+}
+
+// ---------------------------------------------------------------------------------------
+// Round shapes: closest features, plus end and rim points for lying capsules and cylinders.
+
+/// When the shape's axis is within this cosine of lying along the contact plane (capsule,
+/// cylinder side) or standing on it (cylinder cap), extra points are tested.
+const FLAT_COSINE: f64 = 0.1;
+
+fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
+    let signed = signed_distance(a, b);
+    if signed.distance > margin {
+        return Vec::new();
+    }
+    let main = Contact {
+        position: 0.5 * (signed.point_a + signed.point_b),
+        normal: signed.normal,
+        separation: signed.distance,
+        kind: ContactKind::Closest,
+        feature: FeatureId::default(),
+        time_of_impact: 0.0,
+    };
+    let mut extra = Vec::new();
+    for (k, point) in extra_points(a, signed.normal).into_iter().enumerate() {
+        extra.extend(point_contact(
+            &point,
+            b,
+            signed.normal,
+            margin,
+            (k + 1) as u32,
+            true,
+        ));
+    }
+    for (k, point) in extra_points(b, -signed.normal).into_iter().enumerate() {
+        extra.extend(point_contact(
+            &point,
+            a,
+            -signed.normal,
+            margin,
+            (k + 1) as u32,
+            false,
+        ));
+    }
+    if extra.len() >= 2 { extra } else { vec![main] }
+}
+
+/// A sphere (radius 0 for a cylinder's rim point) placed on `shape` facing `towards`.
+struct SurfacePoint {
+    center: DVec3,
+    radius: f64,
+}
+
+impl SupportMap for SurfacePoint {
+    fn core_support(&self, _direction: DVec3) -> DVec3 {
+        self.center
+    }
+    fn margin(&self) -> f64 {
+        self.radius
+    }
+    fn inner_point(&self) -> DVec3 {
+        self.center
+    }
+}
+
+/// Points of a capsule or cylinder that may touch along with the closest one: the two ends
+/// of a lying capsule's segment, the two ends of a lying cylinder's contact line, or four
+/// rim points of a standing cylinder's cap. `normal` points away from the shape.
+fn extra_points(posed: &PosedShape, normal: DVec3) -> Vec<SurfacePoint> {
+    let axis = posed.rotation * DVec3::Y;
+    let along = axis.dot(normal);
+    match *posed.shape {
+        Shape::Capsule {
+            half_height,
+            radius,
+        } if along.abs() < FLAT_COSINE => [-1.0, 1.0]
+            .map(|s| SurfacePoint {
+                center: posed.to_world(DVec3::Y * (s * half_height)),
+                radius,
+            })
+            .into(),
+        Shape::Cylinder {
+            half_height,
+            radius,
+        } if along.abs() < FLAT_COSINE => {
+            let radial = (normal - axis * along).normalize_or_zero() * radius;
+            [-1.0, 1.0]
+                .map(|s| SurfacePoint {
+                    center: posed.to_world(DVec3::ZERO) + axis * (s * half_height) + radial,
+                    radius: 0.0,
+                })
+                .into()
+        }
+        Shape::Cylinder {
+            half_height,
+            radius,
+        } if along.abs() > 1.0 - FLAT_COSINE => {
+            let cap = posed.to_world(DVec3::ZERO) + axis * half_height.copysign(along);
+            let (u, v) = (posed.rotation * DVec3::X, posed.rotation * DVec3::Z);
+            [u, v, -u, -v]
+                .map(|d| SurfacePoint {
+                    center: cap + d * radius,
+                    radius: 0.0,
+                })
+                .into()
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// The contact of one extra point with the other shape, kept when within `margin` and
+/// facing the same way as the main contact.
+fn point_contact(
+    point: &SurfacePoint,
+    other: &PosedShape,
+    normal: DVec3,
+    margin: f64,
+    index: u32,
+    point_is_a: bool,
+) -> Option<Contact> {
+    let signed = signed_distance(point, other);
+    if signed.distance > margin || signed.normal.dot(normal) < 1.0 - FLAT_COSINE {
+        return None;
+    }
+    let (normal, on_a, on_b) = if point_is_a {
+        (signed.normal, VERTEX_TAG | index, 0)
+    } else {
+        (-signed.normal, 0, VERTEX_TAG | index)
+    };
+    Some(Contact {
+        position: 0.5 * (signed.point_a + signed.point_b),
+        normal,
+        separation: signed.distance,
+        kind: ContactKind::Closest,
+        feature: FeatureId { on_a, on_b },
+        time_of_impact: 0.0,
+    })
+}
