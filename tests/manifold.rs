@@ -228,8 +228,10 @@ proptest! {
             prop_assert!(c.position.is_finite() && c.separation.is_finite());
             prop_assert!((c.normal.length() - 1.0).abs() < 1e-9);
             prop_assert!(c.separation <= margin + 1e-9 * scale);
-            // No contact claims to be deeper than the true penetration depth.
-            prop_assert!(c.separation >= deepest.min(0.0) - 1e-6 * scale, "{} < {}", c.separation, deepest);
+            // No contact claims to be deeper than the true penetration depth, give or take
+            // the preference for face axes (0.1% of the smaller shape's size).
+            let preference = 1e-3 * sa.bounding_radius().min(sb.bounding_radius());
+            prop_assert!(c.separation >= deepest.min(0.0) - preference - 1e-6 * scale, "{} < {}", c.separation, deepest);
             // Each point is on (or inside) its shape.
             let on_a = rigid::physics::SupportMap::support(&a, c.normal);
             let on_b = rigid::physics::SupportMap::support(&b, -c.normal);

@@ -26,12 +26,14 @@ pub mod contact;
 pub mod epa;
 pub mod gjk;
 pub mod manifold;
+pub mod query;
 pub mod toi;
 
 pub use aabb::Aabb;
 pub use broad_phase::{BodyPair, BroadPhase, BroadPhaseKind, Proxy};
 pub use contact::{Contact, ContactKind, ContactManifold, FeatureId};
 pub use epa::{Penetration, SignedDistance, penetration, signed_distance};
-pub use toi::{Rewind, TimeOfImpact, bisection_rewind, conservative_advancement, swept_aabb};
-pub use manifold::{contact_manifold, generate_contacts};
 pub use gjk::{GjkResult, PosedShape, SupportMap, gjk_distance, gjk_intersects};
+pub use manifold::{contact_manifold, generate_contacts};
+pub use query::{CastHit, ray_cast, shape_cast};
+pub use toi::{Rewind, TimeOfImpact, bisection_rewind, conservative_advancement, swept_aabb};
