@@ -215,7 +215,7 @@ proptest! {
         let scale = sa.bounding_radius().max(sb.bounding_radius());
         prop_assert!(contacts.len() <= 4);
         if let Some(deepest) = contacts.first() {
-            prop_assert!(deepest.separation <= distance.max(0.0) + 1e-9 * scale);
+            prop_assert!(deepest.separation <= distance.max(0.0) + 1e-9 * scale, "deepest {:?} distance {distance}", deepest);
         }
         if distance > margin + 1e-9 * scale {
             return Ok(());

@@ -48,6 +48,11 @@ pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Con
         (Some(pa), Some(pb)) => polyhedron_contacts(&pa, &pb, margin),
         _ => round_contacts(a, b, margin),
     };
+    if contacts.is_empty() {
+        // Clipping can cut away a whole incident face when a face axis was preferred over a
+        // slightly better edge axis; the closest pair still makes one contact.
+        contacts.extend(closest_contact(a, b, margin));
+    }
     contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
     reduce_by_area(contacts)
 }
@@ -481,40 +486,55 @@ fn farthest_from(contacts: &[Contact], point: DVec3) -> usize {
 const FLAT_COSINE: f64 = 0.1;
 
 fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
-    let signed = signed_distance(a, b);
-    if signed.distance > margin {
+    let Some(main) = closest_contact(a, b, margin) else {
         return Vec::new();
+    };
+    let mut extra = Vec::new();
+    for (k, point) in extra_points(a, main.normal).into_iter().enumerate() {
+        extra.extend(point_contact(
+            &point,
+            b,
+            main.normal,
+            margin,
+            (k + 1) as u32,
+            true,
+        ));
     }
-    let main = Contact {
+    for (k, point) in extra_points(b, -main.normal).into_iter().enumerate() {
+        extra.extend(point_contact(
+            &point,
+            a,
+            -main.normal,
+            margin,
+            (k + 1) as u32,
+            false,
+        ));
+    }
+    // A lying shape touches along a line or patch whose ends are the extra points, and the
+    // closest pair is just one point of it; otherwise the closest pair is deeper and stays.
+    let deepest_extra = extra
+        .iter()
+        .map(|c| c.separation)
+        .fold(f64::INFINITY, f64::min);
+    let size = a.shape.bounding_radius() + b.shape.bounding_radius();
+    if extra.len() < 2 || main.separation < deepest_extra - 1e-9 * size {
+        extra.retain(|c| c.position.distance(main.position) > 1e-6 * size);
+        extra.insert(0, main);
+    }
+    extra
+}
+
+/// The closest pair of points (GJK, or EPA when the cores overlap) as one contact.
+fn closest_contact(a: &PosedShape, b: &PosedShape, margin: f64) -> Option<Contact> {
+    let signed = signed_distance(a, b);
+    (signed.distance <= margin).then(|| Contact {
         position: 0.5 * (signed.point_a + signed.point_b),
         normal: signed.normal,
         separation: signed.distance,
         kind: ContactKind::Closest,
         feature: FeatureId::default(),
         time_of_impact: 0.0,
-    };
-    let mut extra = Vec::new();
-    for (k, point) in extra_points(a, signed.normal).into_iter().enumerate() {
-        extra.extend(point_contact(
-            &point,
-            b,
-            signed.normal,
-            margin,
-            (k + 1) as u32,
-            true,
-        ));
-    }
-    for (k, point) in extra_points(b, -signed.normal).into_iter().enumerate() {
-        extra.extend(point_contact(
-            &point,
-            a,
-            -signed.normal,
-            margin,
-            (k + 1) as u32,
-            false,
-        ));
-    }
-    if extra.len() >= 2 { extra } else { vec![main] }
+    })
 }
 
 /// A sphere (radius 0 for a cylinder's rim point) placed on `shape` facing `towards`.
