@@ -101,37 +101,36 @@ const BOX_EDGES: [[u32; 2]; 12] = [
 impl Polyhedron {
     fn of(posed: &PosedShape) -> Option<Polyhedron> {
         let to_world = |p: DVec3| posed.to_world(p);
-        let rotate = |n: DVec3| posed.rotation * n;
-        let (vertices, faces, edges): (Vec<DVec3>, Vec<(Vec<u32>, DVec3)>, Vec<[u32; 2]>) =
-            match posed.shape {
-                Shape::Cuboid { half_extents } => (
-                    (0..8)
-                        .map(|i| to_world(box_corner(*half_extents, i)))
-                        .collect(),
-                    BOX_FACES
-                        .iter()
-                        .map(|(v, n)| (v.to_vec(), rotate(*n)))
-                        .collect(),
-                    BOX_EDGES.to_vec(),
-                ),
-                Shape::ConvexHull(hull) => (
-                    hull.vertices.iter().map(|&p| to_world(p)).collect(),
-                    hull.faces
-                        .iter()
-                        .map(|f| (f.vertices.clone(), rotate(f.normal)))
-                        .collect(),
-                    hull.edges.clone(),
-                ),
-                _ => return None,
-            };
-        let faces = faces
-            .into_iter()
-            .map(|(indices, normal)| Polygon {
+        let face = |indices: Vec<u32>, local_normal: DVec3, vertices: &[DVec3]| {
+            let normal = posed.rotation * local_normal;
+            Polygon {
                 offset: normal.dot(vertices[indices[0] as usize]),
                 vertices: indices,
                 normal,
-            })
-            .collect();
+            }
+        };
+        let (vertices, faces, edges) = match posed.shape {
+            Shape::Cuboid { half_extents } => {
+                let vertices: Vec<DVec3> = (0..8)
+                    .map(|i| to_world(box_corner(*half_extents, i)))
+                    .collect();
+                let faces = BOX_FACES
+                    .iter()
+                    .map(|(indices, normal)| face(indices.to_vec(), *normal, &vertices))
+                    .collect();
+                (vertices, faces, BOX_EDGES.to_vec())
+            }
+            Shape::ConvexHull(hull) => {
+                let vertices: Vec<DVec3> = hull.vertices.iter().map(|&p| to_world(p)).collect();
+                let faces = hull
+                    .faces
+                    .iter()
+                    .map(|f| face(f.vertices.clone(), f.normal, &vertices))
+                    .collect();
+                (vertices, faces, hull.edges.clone())
+            }
+            _ => return None,
+        };
         let centroid = vertices.iter().sum::<DVec3>() / vertices.len() as f64;
         Some(Polyhedron {
             vertices,
