@@ -240,3 +240,39 @@ proptest! {
         }
     }
 }
+
+/// An upside-down U (two legs and a bridge) standing on the ground touches with both legs.
+#[test]
+fn compound_standing_on_two_legs() {
+    use rigid::physics::{Compound, CompoundPart, Pose};
+    let part = |x: f64, y: f64, half: DVec3| CompoundPart {
+        pose: Pose::new(DVec3::new(x, y, 0.0), DQuat::IDENTITY),
+        shape: Shape::cuboid(half),
+    };
+    let leg = DVec3::new(0.1, 0.5, 0.1);
+    let arch = Compound::new(vec![
+        part(-1.0, 0.0, leg),
+        part(1.0, 0.0, leg),
+        part(0.0, 0.6, DVec3::new(1.1, 0.1, 0.1)),
+    ])
+    .unwrap();
+    let shape = Shape::Compound(std::sync::Arc::new(arch));
+    let ground = Shape::cuboid(DVec3::new(5.0, 0.5, 5.0));
+    let a = at(&ground, DVec3::ZERO, DQuat::IDENTITY);
+    let b = at(&shape, DVec3::new(0.0, 0.99, 0.0), DQuat::IDENTITY);
+    let contacts = generate_contacts(&a, &b, 0.0);
+    assert_eq!(contacts.len(), 4);
+    for c in &contacts {
+        assert!((c.separation + 0.01).abs() < TOL);
+        assert_close(c.normal, DVec3::Y, TOL);
+        assert!(
+            (c.position.x.abs() - 1.0).abs() <= 0.1 + TOL,
+            "{}",
+            c.position
+        );
+    }
+    // Both legs are represented (reduction keeps the widest spread).
+    assert!(
+        contacts.iter().any(|c| c.position.x < 0.0) && contacts.iter().any(|c| c.position.x > 0.0)
+    );
+}

@@ -205,3 +205,39 @@ proptest! {
         prop_assert!(hit.normal.z < 0.0);
     }
 }
+
+/// An L made of two boxes: a ray through the notch misses, one along the arm hits it.
+#[test]
+fn compounds_are_cast_against_part_by_part() {
+    use rigid::physics::{Compound, CompoundPart, Pose};
+    let part = |x: f64, y: f64| CompoundPart {
+        pose: Pose::new(DVec3::new(x, y, 0.0), DQuat::IDENTITY),
+        shape: Shape::cuboid(DVec3::splat(0.5)),
+    };
+    let l_shape = Compound::new(vec![part(0.0, 0.0), part(1.0, 0.0), part(0.0, 1.0)]).unwrap();
+    let shape = Shape::Compound(std::sync::Arc::new(l_shape));
+    let world = world_with(vec![(shape, DVec3::ZERO, DQuat::IDENTITY)]);
+    // The notch is the empty unit cube centred at (1, 1, 0).
+    assert!(
+        world
+            .ray_cast(DVec3::new(1.0, 1.0, -5.0), DVec3::Z, 10.0)
+            .is_none()
+    );
+    let hit = world
+        .ray_cast(DVec3::new(1.0, 0.2, -5.0), DVec3::Z, 10.0)
+        .unwrap();
+    assert!((hit.distance - 4.5).abs() < TOL);
+    assert_close(hit.normal, -DVec3::Z, TOL);
+    // A small ball dropped into the notch lands on the lower arm (top at y = 0.5).
+    let ball = Shape::sphere(0.2);
+    let drop = world
+        .shape_cast(
+            &ball,
+            DVec3::new(1.0, 3.0, 0.0),
+            DQuat::IDENTITY,
+            -DVec3::Y,
+            10.0,
+        )
+        .unwrap();
+    assert!((drop.distance - 2.3).abs() < 1e-8, "{}", drop.distance);
+}

@@ -58,6 +58,27 @@ impl<'a> PosedShape<'a> {
         }
     }
 
+    /// The convex parts of a compound, each placed in the world; None for convex shapes.
+    /// GJK on a compound itself sees the convex hull of its parts: contact generation and
+    /// casts go through the parts instead.
+    pub fn compound_parts(&self) -> Option<Vec<PosedShape<'a>>> {
+        let Shape::Compound(compound) = self.shape else {
+            return None;
+        };
+        let parts = compound
+            .parts
+            .iter()
+            .map(|part| {
+                PosedShape::new(
+                    &part.shape,
+                    self.to_world(part.pose.translation),
+                    self.rotation * DMat3::from_quat(part.pose.rotation),
+                )
+            })
+            .collect();
+        Some(parts)
+    }
+
     pub fn to_world(&self, local: DVec3) -> DVec3 {
         self.origin + self.rotation * local
     }

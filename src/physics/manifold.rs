@@ -43,7 +43,47 @@ pub fn contact_manifold(
 }
 
 /// The contacts of two placed shapes (deepest first, at most `MAX_MANIFOLD_POINTS`).
+/// Compounds are split into their parts; their contacts may then carry different normals.
 pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
+    let mut contacts = if let Some(parts) = a.compound_parts() {
+        part_contacts(&parts, b, margin, true)
+    } else if let Some(parts) = b.compound_parts() {
+        part_contacts(&parts, a, margin, false)
+    } else {
+        convex_contacts(a, b, margin)
+    };
+    contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
+    reduce_by_area(contacts)
+}
+
+/// Part k's feature ids are marked with k + 1 in bits 20 to 27, so parts never share ids.
+fn part_contacts(
+    parts: &[PosedShape],
+    other: &PosedShape,
+    margin: f64,
+    parts_are_a: bool,
+) -> Vec<Contact> {
+    let mut contacts = Vec::new();
+    for (k, part) in parts.iter().enumerate() {
+        let tag = ((k as u32 + 1) & 0xff) << 20;
+        let found = if parts_are_a {
+            generate_contacts(part, other, margin)
+        } else {
+            generate_contacts(other, part, margin)
+        };
+        contacts.extend(found.into_iter().map(|mut c| {
+            if parts_are_a {
+                c.feature.on_a |= tag;
+            } else {
+                c.feature.on_b |= tag;
+            }
+            c
+        }));
+    }
+    contacts
+}
+
+fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
     let mut contacts = match (Polyhedron::of(a), Polyhedron::of(b)) {
         (Some(pa), Some(pb)) => polyhedron_contacts(&pa, &pb, margin),
         _ => round_contacts(a, b, margin),
@@ -53,8 +93,7 @@ pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Con
         // slightly better edge axis; the closest pair still makes one contact.
         contacts.extend(closest_contact(a, b, margin));
     }
-    contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
-    reduce_by_area(contacts)
+    contacts
 }
 
 // ---------------------------------------------------------------------------------------

@@ -1,8 +1,8 @@
 //! Ray casts and shape casts against bodies (picking, pushing, line of sight, sweeps).
 //!
 //! Spheres, cuboids and hulls are hit analytically (quadratic, slabs, clipping against the
-//! face planes); capsules, cylinders and compounds, and every shape cast, use conservative
-//! advancement along the cast direction on GJK distances. A ray that starts inside a shape
+//! face planes); capsules and cylinders, and every shape cast, use conservative advancement
+//! along the cast direction on GJK distances. Compounds are cast against part by part. A ray that starts inside a shape
 //! hits it at distance 0 with the normal opposite to the ray.
 
 use glam::DVec3;
@@ -47,6 +47,12 @@ pub fn ray_cast_shape(
     direction: DVec3,
     max_distance: f64,
 ) -> Option<ShapeHit> {
+    if let Some(parts) = shape.compound_parts() {
+        return parts
+            .iter()
+            .filter_map(|part| ray_cast_shape(part, origin, direction, max_distance))
+            .min_by(|x, y| x.distance.total_cmp(&y.distance));
+    }
     let local_origin = shape.rotation.transpose() * (origin - shape.origin);
     let local_direction = shape.to_local_direction(direction);
     let local = match shape.shape {
@@ -222,6 +228,12 @@ pub fn shape_cast(
     direction: DVec3,
     max_distance: f64,
 ) -> Option<CastHit> {
+    if let Some(parts) = cast.compound_parts() {
+        return parts
+            .iter()
+            .filter_map(|part| shape_cast(bodies, part, direction, max_distance))
+            .min_by(|x, y| x.distance.total_cmp(&y.distance));
+    }
     let direction = direction.try_normalize()?;
     let sweep = Aabb::of_shape(cast.shape, cast.origin, cast.rotation);
     nearest_hit(bodies, max_distance, |body, limit| {
@@ -229,7 +241,14 @@ pub fn shape_cast(
         if !swept.overlaps(&Aabb::of_body(body)) {
             return None;
         }
-        cast_support_map(cast, &PosedShape::of_body(body), direction, limit)
+        let target = PosedShape::of_body(body);
+        match target.compound_parts() {
+            Some(parts) => parts
+                .iter()
+                .filter_map(|part| cast_support_map(cast, part, direction, limit))
+                .min_by(|x, y| x.distance.total_cmp(&y.distance)),
+            None => cast_support_map(cast, &target, direction, limit),
+        }
     })
 }
 
