@@ -297,14 +297,22 @@ proptest! {
                 "gjk {} not in [{lower}, {upper}]", result.distance);
         } else {
             // Touching or overlapping: no plane separates them.
-            prop_assert!(support_reference(&a, &b) <= 1e-9 * scale);
+            let gap = support_reference(&a, &b);
+            prop_assert!(gap <= 1e-9 * scale, "intersecting, yet a plane separates by {gap:e}");
         }
         if !result.intersecting {
             // The witnesses are on the surfaces and as far apart as the distance.
             prop_assert!((result.point_a.distance(result.point_b) - result.distance).abs() <= 1e-9 * scale);
             let n = result.normal;
-            prop_assert!((n.dot(a.support(n)) - n.dot(result.point_a)).abs() <= 1e-9 * scale);
-            prop_assert!((n.dot(b.support(-n)) - n.dot(result.point_b)).abs() <= 1e-9 * scale);
+            let error_a = (n.dot(a.support(n)) - n.dot(result.point_a)).abs();
+            let error_b = (n.dot(b.support(-n)) - n.dot(result.point_b)).abs();
+            // Round-off on |v|² (relative 1e-14) costs the witnesses ε s² / d when nearly
+            // touching. A cylinder's rim is curved: GJK stops on round-off with the witness up
+            // to about 1e-6 inside its support plane (the distance is then at most that long).
+            let curved = matches!(sa, Spec::Cylinder(..)) || matches!(sb, Spec::Cylinder(..));
+            let tolerance = if curved { 1e-5 * scale } else { 1e-9 * scale }
+                + 1e-13 * scale * scale / result.distance;
+            prop_assert!(error_a.max(error_b) <= tolerance, "witness off its support plane by {error_a:e}, {error_b:e} at distance {} after {} iterations", result.distance, result.iterations);
         }
     }
 

@@ -72,6 +72,15 @@ pub struct ContactManifold {
 pub const MAX_MANIFOLD_POINTS: usize = 4;
 
 impl ContactManifold {
+    /// Stamps every contact with the time within the step at which it was found (after a
+    /// rewind or a conservative advancement).
+    pub fn with_time_of_impact(mut self, time: f64) -> Self {
+        for contact in &mut self.contacts {
+            contact.time_of_impact = time;
+        }
+        self
+    }
+
     /// The most negative separation (the deepest penetration), or +∞ when empty.
     pub fn min_separation(&self) -> f64 {
         self.contacts

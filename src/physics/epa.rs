@@ -75,7 +75,7 @@ fn from_separate_cores(
     b: &impl SupportMap,
     core: &CoreDistance,
 ) -> SignedDistance {
-    let normal = (core.point_b - core.point_a) / core.distance;
+    let normal = core.normal;
     SignedDistance {
         distance: core.distance - a.margin() - b.margin(),
         normal,

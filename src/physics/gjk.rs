@@ -58,6 +58,27 @@ impl<'a> PosedShape<'a> {
         }
     }
 
+    /// The convex parts of a compound, each placed in the world; None for convex shapes.
+    /// GJK on a compound itself sees the convex hull of its parts: contact generation and
+    /// casts go through the parts instead.
+    pub fn compound_parts(&self) -> Option<Vec<PosedShape<'a>>> {
+        let Shape::Compound(compound) = self.shape else {
+            return None;
+        };
+        let parts = compound
+            .parts
+            .iter()
+            .map(|part| {
+                PosedShape::new(
+                    &part.shape,
+                    self.to_world(part.pose.translation),
+                    self.rotation * DMat3::from_quat(part.pose.rotation),
+                )
+            })
+            .collect();
+        Some(parts)
+    }
+
     pub fn to_world(&self, local: DVec3) -> DVec3 {
         self.origin + self.rotation * local
     }
@@ -223,6 +244,8 @@ pub struct CoreDistance {
     /// Closest points of the cores (meaningless when `overlap`).
     pub point_a: DVec3,
     pub point_b: DVec3,
+    /// Unit, from A's core towards B's (zero when they overlap).
+    pub normal: DVec3,
     /// The cores overlap: the final simplex encloses (or touches) the origin.
     pub overlap: bool,
     pub simplex: Simplex,
@@ -252,6 +275,11 @@ pub const GJK_MAX_ITERATIONS: u32 = 64;
 const RELATIVE_TOLERANCE: f64 = 1e-12;
 /// Round-off floor, relative to the square of the size of the simplex.
 const ROUND_OFF: f64 = 1e-14;
+/// Below this squared distance (relative to the simplex size) the cores touch.
+const TOUCHING: f64 = 1e-20;
+/// A support point this close (squared, relative) to a simplex vertex is that vertex again.
+/// Curved shapes give new points very close to old ones, so this must stay near round-off.
+const DUPLICATE: f64 = 1e-26;
 
 /// Distance, closest points and intersection of two convex shapes.
 pub fn gjk_distance(a: &impl SupportMap, b: &impl SupportMap) -> GjkResult {
@@ -267,7 +295,7 @@ pub fn gjk_distance(a: &impl SupportMap, b: &impl SupportMap) -> GjkResult {
             iterations: core.iterations,
         };
     }
-    let normal = (core.point_b - core.point_a) / core.distance;
+    let normal = core.normal;
     GjkResult {
         distance: (core.distance - margins).max(0.0),
         point_a: core.point_a + normal * a.margin(),
@@ -294,14 +322,15 @@ pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistan
         iterations += 1;
         let scale_sq = simplex_scale_sq(&simplex);
         let v_sq = v.length_squared();
-        if v_sq <= ROUND_OFF * scale_sq {
+        if v_sq <= TOUCHING * scale_sq {
             overlap = true;
             break;
         }
         let w = SupportPoint::of_cores(a, b, -v);
         let gap = v_sq - v.dot(w.w);
         let floor = ROUND_OFF * scale_sq.max(w.w.length_squared());
-        if gap <= RELATIVE_TOLERANCE * v_sq + floor || simplex.contains_w(w.w, floor) {
+        if gap <= RELATIVE_TOLERANCE * v_sq + floor || simplex.contains_w(w.w, DUPLICATE * scale_sq)
+        {
             break;
         }
         let mut candidate = simplex;
@@ -312,6 +341,13 @@ pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistan
             overlap = true;
             break;
         }
+        // Slivers (near-duplicate points from curved surfaces) can defeat the region tests;
+        // then every sub-simplex holding the new point is tried directly.
+        let reduced = if reduced.combine().0.length_squared() < v_sq {
+            reduced
+        } else {
+            best_with_newest(&candidate)
+        };
         let new_v = reduced.combine().0;
         if new_v.length_squared() >= v_sq {
             break; // no progress: round-off has taken over, keep the previous simplex
@@ -324,6 +360,9 @@ pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistan
         distance: if overlap { 0.0 } else { v.length() },
         point_a,
         point_b,
+        // v = a − b is what GJK minimised; its direction is the normal even when round-off
+        // makes the witness points a little less accurate than v.
+        normal: if overlap { DVec3::ZERO } else { -v.normalize() },
         overlap,
         simplex,
         iterations,
@@ -414,39 +453,67 @@ fn closest_on_triangle(a: SupportPoint, b: SupportPoint, c: SupportPoint) -> Sim
     ])
 }
 
-/// Faces whose plane separates the origin from the opposite vertex are candidates; the
-/// origin is enclosed when there is none.
+/// Barycentric coordinates of the origin from signed volumes: the origin is enclosed when
+/// all four are non-negative; otherwise it lies beyond each face whose opposite vertex has
+/// a negative coordinate, and the closest of those faces wins. A flat (sliver) tetrahedron
+/// encloses nothing: its faces are all tried.
 fn closest_on_tetrahedron(
     a: SupportPoint,
     b: SupportPoint,
     c: SupportPoint,
     d: SupportPoint,
 ) -> (Simplex, bool) {
-    let faces = [(a, b, c, d), (a, c, d, b), (a, d, b, c), (b, d, c, a)];
-    let mut candidates = Vec::with_capacity(4);
-    for (p, q, r, opposite) in faces {
-        if origin_outside_face(p.w, q.w, r.w, opposite.w) {
-            candidates.push(closest_on_triangle(p, q, r));
-        }
+    let [pa, pb, pc, pd] = [a.w, b.w, c.w, d.w];
+    let volume = signed_volume(pa, pb, pc, pd);
+    let size = [pb - pa, pc - pa, pd - pa, pc - pb, pd - pb, pd - pc]
+        .iter()
+        .map(|e| e.length())
+        .fold(0.0, f64::max);
+    let faces = [(b, c, d), (a, c, d), (a, b, d), (a, b, c)];
+    if volume.abs() <= 1e-12 * size * size * size {
+        return (
+            best_of(faces.map(|(p, q, r)| closest_on_triangle(p, q, r))),
+            false,
+        );
     }
-    if candidates.is_empty() {
-        let mut enclosed = Simplex::single(a);
-        enclosed.len = 0;
-        for p in [a, b, c, d] {
-            enclosed.push(p);
-        }
+    let o = DVec3::ZERO;
+    let coordinates = [
+        signed_volume(o, pb, pc, pd),
+        signed_volume(pa, o, pc, pd),
+        signed_volume(pa, pb, o, pd),
+        signed_volume(pa, pb, pc, o),
+    ]
+    .map(|v| v / volume);
+    if coordinates.iter().all(|&l| l >= 0.0) {
+        let mut enclosed = Simplex::from_weighted(&[(a, 0.0), (b, 0.0), (c, 0.0), (d, 0.0)]);
+        enclosed.weights = coordinates;
         return (enclosed, true);
     }
+    let candidates = faces
+        .iter()
+        .zip(coordinates)
+        .filter(|(_, l)| *l < 0.0)
+        .map(|(&(p, q, r), _)| closest_on_triangle(p, q, r));
     (best_of(candidates), false)
 }
 
-/// A flat tetrahedron counts every face as a candidate.
-fn origin_outside_face(p: DVec3, q: DVec3, r: DVec3, opposite: DVec3) -> bool {
-    let normal = (q - p).cross(r - p);
-    let opposite_side = normal.dot(opposite - p);
-    let origin_side = normal.dot(-p);
-    let flat = opposite_side.abs() <= 1e-12 * normal.length() * (opposite - p).length();
-    flat || origin_side * opposite_side < 0.0 || origin_side == 0.0
+/// (q − p) × (r − p) · (s − p): six times the signed volume of the tetrahedron pqrs.
+fn signed_volume(p: DVec3, q: DVec3, r: DVec3, s: DVec3) -> f64 {
+    (q - p).cross(r - p).dot(s - p)
+}
+
+/// The best sub-simplex among those that contain the newest (last) point.
+fn best_with_newest(simplex: &Simplex) -> Simplex {
+    let points = simplex.vertices();
+    let (newest, older) = points.split_last().expect("a simplex is never empty");
+    let mut candidates = vec![Simplex::single(*newest)];
+    for (i, &p) in older.iter().enumerate() {
+        candidates.push(closest_on_segment(p, *newest));
+        for &q in &older[i + 1..] {
+            candidates.push(closest_on_triangle(p, q, *newest));
+        }
+    }
+    best_of(candidates)
 }
 
 fn best_of(candidates: impl IntoIterator<Item = Simplex>) -> Simplex {

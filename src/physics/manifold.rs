@@ -43,13 +43,57 @@ pub fn contact_manifold(
 }
 
 /// The contacts of two placed shapes (deepest first, at most `MAX_MANIFOLD_POINTS`).
+/// Compounds are split into their parts; their contacts may then carry different normals.
 pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
+    let mut contacts = if let Some(parts) = a.compound_parts() {
+        part_contacts(&parts, b, margin, true)
+    } else if let Some(parts) = b.compound_parts() {
+        part_contacts(&parts, a, margin, false)
+    } else {
+        convex_contacts(a, b, margin)
+    };
+    contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
+    reduce_by_area(contacts)
+}
+
+/// Part k's feature ids are marked with k + 1 in bits 20 to 27, so parts never share ids.
+fn part_contacts(
+    parts: &[PosedShape],
+    other: &PosedShape,
+    margin: f64,
+    parts_are_a: bool,
+) -> Vec<Contact> {
+    let mut contacts = Vec::new();
+    for (k, part) in parts.iter().enumerate() {
+        let tag = ((k as u32 + 1) & 0xff) << 20;
+        let found = if parts_are_a {
+            generate_contacts(part, other, margin)
+        } else {
+            generate_contacts(other, part, margin)
+        };
+        contacts.extend(found.into_iter().map(|mut c| {
+            if parts_are_a {
+                c.feature.on_a |= tag;
+            } else {
+                c.feature.on_b |= tag;
+            }
+            c
+        }));
+    }
+    contacts
+}
+
+fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
     let mut contacts = match (Polyhedron::of(a), Polyhedron::of(b)) {
         (Some(pa), Some(pb)) => polyhedron_contacts(&pa, &pb, margin),
         _ => round_contacts(a, b, margin),
     };
-    contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
-    reduce_by_area(contacts)
+    if contacts.is_empty() {
+        // Clipping can cut away a whole incident face when a face axis was preferred over a
+        // slightly better edge axis; the closest pair still makes one contact.
+        contacts.extend(closest_contact(a, b, margin));
+    }
+    contacts
 }
 
 // ---------------------------------------------------------------------------------------
@@ -96,37 +140,36 @@ const BOX_EDGES: [[u32; 2]; 12] = [
 impl Polyhedron {
     fn of(posed: &PosedShape) -> Option<Polyhedron> {
         let to_world = |p: DVec3| posed.to_world(p);
-        let rotate = |n: DVec3| posed.rotation * n;
-        let (vertices, faces, edges): (Vec<DVec3>, Vec<(Vec<u32>, DVec3)>, Vec<[u32; 2]>) =
-            match posed.shape {
-                Shape::Cuboid { half_extents } => (
-                    (0..8)
-                        .map(|i| to_world(box_corner(*half_extents, i)))
-                        .collect(),
-                    BOX_FACES
-                        .iter()
-                        .map(|(v, n)| (v.to_vec(), rotate(*n)))
-                        .collect(),
-                    BOX_EDGES.to_vec(),
-                ),
-                Shape::ConvexHull(hull) => (
-                    hull.vertices.iter().map(|&p| to_world(p)).collect(),
-                    hull.faces
-                        .iter()
-                        .map(|f| (f.vertices.clone(), rotate(f.normal)))
-                        .collect(),
-                    hull.edges.clone(),
-                ),
-                _ => return None,
-            };
-        let faces = faces
-            .into_iter()
-            .map(|(indices, normal)| Polygon {
+        let face = |indices: Vec<u32>, local_normal: DVec3, vertices: &[DVec3]| {
+            let normal = posed.rotation * local_normal;
+            Polygon {
                 offset: normal.dot(vertices[indices[0] as usize]),
                 vertices: indices,
                 normal,
-            })
-            .collect();
+            }
+        };
+        let (vertices, faces, edges) = match posed.shape {
+            Shape::Cuboid { half_extents } => {
+                let vertices: Vec<DVec3> = (0..8)
+                    .map(|i| to_world(box_corner(*half_extents, i)))
+                    .collect();
+                let faces = BOX_FACES
+                    .iter()
+                    .map(|(indices, normal)| face(indices.to_vec(), *normal, &vertices))
+                    .collect();
+                (vertices, faces, BOX_EDGES.to_vec())
+            }
+            Shape::ConvexHull(hull) => {
+                let vertices: Vec<DVec3> = hull.vertices.iter().map(|&p| to_world(p)).collect();
+                let faces = hull
+                    .faces
+                    .iter()
+                    .map(|f| face(f.vertices.clone(), f.normal, &vertices))
+                    .collect();
+                (vertices, faces, hull.edges.clone())
+            }
+            _ => return None,
+        };
         let centroid = vertices.iter().sum::<DVec3>() / vertices.len() as f64;
         Some(Polyhedron {
             vertices,
@@ -481,40 +524,55 @@ fn farthest_from(contacts: &[Contact], point: DVec3) -> usize {
 const FLAT_COSINE: f64 = 0.1;
 
 fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
-    let signed = signed_distance(a, b);
-    if signed.distance > margin {
+    let Some(main) = closest_contact(a, b, margin) else {
         return Vec::new();
+    };
+    let mut extra = Vec::new();
+    for (k, point) in extra_points(a, main.normal).into_iter().enumerate() {
+        extra.extend(point_contact(
+            &point,
+            b,
+            main.normal,
+            margin,
+            (k + 1) as u32,
+            true,
+        ));
     }
-    let main = Contact {
+    for (k, point) in extra_points(b, -main.normal).into_iter().enumerate() {
+        extra.extend(point_contact(
+            &point,
+            a,
+            -main.normal,
+            margin,
+            (k + 1) as u32,
+            false,
+        ));
+    }
+    // A lying shape touches along a line or patch whose ends are the extra points, and the
+    // closest pair is just one point of it; otherwise the closest pair is deeper and stays.
+    let deepest_extra = extra
+        .iter()
+        .map(|c| c.separation)
+        .fold(f64::INFINITY, f64::min);
+    let size = a.shape.bounding_radius() + b.shape.bounding_radius();
+    if extra.len() < 2 || main.separation < deepest_extra - 1e-9 * size {
+        extra.retain(|c| c.position.distance(main.position) > 1e-6 * size);
+        extra.insert(0, main);
+    }
+    extra
+}
+
+/// The closest pair of points (GJK, or EPA when the cores overlap) as one contact.
+fn closest_contact(a: &PosedShape, b: &PosedShape, margin: f64) -> Option<Contact> {
+    let signed = signed_distance(a, b);
+    (signed.distance <= margin).then(|| Contact {
         position: 0.5 * (signed.point_a + signed.point_b),
         normal: signed.normal,
         separation: signed.distance,
         kind: ContactKind::Closest,
         feature: FeatureId::default(),
         time_of_impact: 0.0,
-    };
-    let mut extra = Vec::new();
-    for (k, point) in extra_points(a, signed.normal).into_iter().enumerate() {
-        extra.extend(point_contact(
-            &point,
-            b,
-            signed.normal,
-            margin,
-            (k + 1) as u32,
-            true,
-        ));
-    }
-    for (k, point) in extra_points(b, -signed.normal).into_iter().enumerate() {
-        extra.extend(point_contact(
-            &point,
-            a,
-            -signed.normal,
-            margin,
-            (k + 1) as u32,
-            false,
-        ));
-    }
-    if extra.len() >= 2 { extra } else { vec![main] }
+    })
 }
 
 /// A sphere (radius 0 for a cylinder's rim point) placed on `shape` facing `towards`.

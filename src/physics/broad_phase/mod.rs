@@ -72,20 +72,16 @@ pub trait BroadPhase {
 }
 
 /// The implementations, selectable in settings.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub enum BroadPhaseKind {
     BruteForce,
     /// Cubic cells of `cell_size` metres; best near the size of a typical body.
     UniformGrid {
         cell_size: f64,
     },
+    /// The default: scales and updates incrementally.
+    #[default]
     SweepAndPrune,
-}
-
-impl Default for BroadPhaseKind {
-    fn default() -> Self {
-        BroadPhaseKind::SweepAndPrune
-    }
 }
 
 impl BroadPhaseKind {
