@@ -70,7 +70,6 @@ fn built_in_scenes_have_the_bodies_their_generators_promise() {
 }
 
 #[test]
-#[ignore = "needs quickhull"]
 fn hull_scene_builds() {
     assert_eq!(built_count("hulls"), 7);
 }
@@ -358,7 +357,6 @@ fn unknown_field_in_inline_material_is_named() {
 }
 
 #[test]
-#[ignore = "needs quickhull"]
 fn degenerate_hull_is_rejected() {
     let message = body_error(
         r#"name: "sheet", shape: Hull(points: [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (1.0, 0.0, 1.0)])"#,
