@@ -70,7 +70,7 @@ mod tests {
 
     #[test]
     fn picks_the_nearest_body_along_the_ray() {
-        // falling_box: platform (0), pedestal (1) at y 0.5, box (2) at y 4.
+        // falling_box: platform (0) ±2.5 m with its top at y 0, cube (1) ±0.5 m, box (2) at y 4.
         let snapshot = Simulation::new("falling_box")
             .unwrap()
             .snapshot(Instant::now());
@@ -84,7 +84,7 @@ mod tests {
             pick(&down(-0.45, -0.45), &snapshot, &poses).unwrap().body,
             1
         );
-        let hit = pick(&down(3.0, 3.0), &snapshot, &poses).unwrap();
+        let hit = pick(&down(2.0, 2.0), &snapshot, &poses).unwrap();
         assert_eq!(hit.body, 0);
         assert!((hit.point.y - 0.0).abs() < 1e-4);
         assert!(pick(&down(9.0, 0.0), &snapshot, &poses).is_none());
