@@ -402,6 +402,37 @@ impl RateMeter {
     }
 }
 
+/// Length of a drawn contact normal, m.
+const NORMAL_LENGTH: f32 = 0.12;
+/// Only contacts this close are drawn, m: speculative ones further apart are not touching.
+const DRAWN_SEPARATION: f64 = 1e-3;
+/// Half size of the cross drawn at a contact point, m.
+const POINT_SIZE: f32 = 0.03;
+const CONTACT_COLOR: [f32; 3] = [1.0, 0.85, 0.1];
+const NORMAL_COLOR: [f32; 3] = [1.0, 0.35, 0.1];
+
+/// A small cross at each touching contact point and its normal (from A towards B).
+fn contact_lines(world: &World) -> Vec<LineSegment> {
+    let mut lines = Vec::new();
+    let contacts = world.contacts().iter().flat_map(|m| &m.contacts);
+    for contact in contacts.filter(|c| c.separation <= DRAWN_SEPARATION) {
+        let point = contact.position.as_vec3();
+        for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
+            lines.push(LineSegment {
+                from: point - axis * POINT_SIZE,
+                to: point + axis * POINT_SIZE,
+                color: CONTACT_COLOR,
+            });
+        }
+        lines.push(LineSegment {
+            from: point,
+            to: point + contact.normal.as_vec3() * NORMAL_LENGTH,
+            color: NORMAL_COLOR,
+        });
+    }
+    lines
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -514,35 +545,4 @@ mod tests {
         assert_eq!(snap.scene, "falling_box");
         assert!(snap.message.unwrap().contains("nope"));
     }
-}
-
-/// Length of a drawn contact normal, m.
-const NORMAL_LENGTH: f32 = 0.12;
-/// Only contacts this close are drawn, m: speculative ones further apart are not touching.
-const DRAWN_SEPARATION: f64 = 1e-3;
-/// Half size of the cross drawn at a contact point, m.
-const POINT_SIZE: f32 = 0.03;
-const CONTACT_COLOR: [f32; 3] = [1.0, 0.85, 0.1];
-const NORMAL_COLOR: [f32; 3] = [1.0, 0.35, 0.1];
-
-/// A small cross at each touching contact point and its normal (from A towards B).
-fn contact_lines(world: &World) -> Vec<LineSegment> {
-    let mut lines = Vec::new();
-    let contacts = world.contacts().iter().flat_map(|m| &m.contacts);
-    for contact in contacts.filter(|c| c.separation <= DRAWN_SEPARATION) {
-        let point = contact.position.as_vec3();
-        for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
-            lines.push(LineSegment {
-                from: point - axis * POINT_SIZE,
-                to: point + axis * POINT_SIZE,
-                color: CONTACT_COLOR,
-            });
-        }
-        lines.push(LineSegment {
-            from: point,
-            to: point + contact.normal.as_vec3() * NORMAL_LENGTH,
-            color: NORMAL_COLOR,
-        });
-    }
-    lines
 }
