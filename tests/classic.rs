@@ -211,3 +211,86 @@ fn a_box_rests_on_the_ground_with_the_classic_pipeline() {
     );
     assert!(body.velocity().length() < 0.2, "v = {}", body.velocity());
 }
+
+/// A static slab whose top face is the plane through the origin with normal `up`.
+fn add_tilted_ground(world: &mut World, up: DVec3, friction: f64) {
+    let slab = BodyDesc::fixed(Shape::cuboid(DVec3::new(20.0, 0.5, 20.0)))
+        .rotated(glam::DQuat::from_rotation_arc(DVec3::Y, up))
+        .at(-up * 0.5)
+        .with_material(material(0.0, friction));
+    world.add_body(slab).unwrap();
+}
+
+#[test]
+fn c4_sliding_box_with_the_classic_pipeline() {
+    let (mu, v0) = (0.5, 5.0);
+    let mut world = classic_world(true);
+    add_tilted_ground(&mut world, DVec3::Y, mu);
+    let block = BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.25)))
+        .at(DVec3::Y * 0.25)
+        .with_velocity(DVec3::X * v0)
+        .with_material(material(0.0, mu));
+    let block = world.add_body(block).unwrap();
+    for _ in 0..180 {
+        world.step(1.0 / 60.0);
+    }
+    let expected = v0 * v0 / (2.0 * mu * 9.81);
+    let distance = world.body(block).position.x;
+    println!("classic C4: {distance:.4} m, expected {expected:.4} m");
+    assert!((distance - expected).abs() / expected < 0.02);
+}
+
+#[test]
+fn c5_incline_with_the_classic_pipeline() {
+    for (theta_deg, mu) in [(20.0f64, 0.5), (40.0, 0.3)] {
+        let theta = theta_deg.to_radians();
+        let up = DVec3::new(-theta.sin(), theta.cos(), 0.0);
+        let downhill = DVec3::new(-theta.cos(), -theta.sin(), 0.0);
+        let mut world = classic_world(true);
+        add_tilted_ground(&mut world, up, mu);
+        let block = BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.25)))
+            .at(up * 0.25)
+            .rotated(glam::DQuat::from_rotation_arc(DVec3::Y, up))
+            .with_material(material(0.0, mu));
+        let block = world.add_body(block).unwrap();
+        for _ in 0..3 {
+            world.step(1.0 / 60.0);
+        }
+        let (start, v0) = (
+            world.body(block).position,
+            world.body(block).velocity().dot(downhill),
+        );
+        for _ in 0..60 {
+            world.step(1.0 / 60.0);
+        }
+        let slid = (world.body(block).position - start).dot(downhill);
+        let a = 9.81 * (theta.sin() - mu * theta.cos());
+        println!("classic C5 {theta_deg}°: slid {slid:.4} m");
+        if a <= 0.0 {
+            assert!(slid.abs() < 1e-3, "should stick: {slid}");
+        } else {
+            let expected = v0 + 0.5 * a;
+            assert!(
+                (slid - expected).abs() / expected < 0.02,
+                "{slid} vs {expected}"
+            );
+        }
+    }
+}
+
+#[test]
+fn c6_sliding_sphere_rolls_at_five_sevenths_with_the_classic_pipeline() {
+    let mut world = classic_world(true);
+    add_tilted_ground(&mut world, DVec3::Y, 0.3);
+    let ball = BodyDesc::dynamic(Shape::sphere(0.2))
+        .at(DVec3::Y * 0.2)
+        .with_velocity(DVec3::X * 5.0)
+        .with_material(material(0.0, 0.3));
+    let ball = world.add_body(ball).unwrap();
+    for _ in 0..120 {
+        world.step(1.0 / 60.0);
+    }
+    let v = world.body(ball).velocity().x;
+    println!("classic C6: {v:.5} m/s, expected {:.5}", 25.0 / 7.0);
+    assert!((v - 25.0 / 7.0).abs() / (25.0 / 7.0) < 0.02);
+}

@@ -7,6 +7,16 @@ use glam::DVec3;
 use crate::bench::{Measurement, median_time};
 use crate::physics::{BodyDesc, EnvironmentForce, Integrator, Shape, World, WorldSettings};
 
+/// A world stepping in one substep: the integrator alone, with no contact solver around it.
+fn integrator_world(integrator: Integrator) -> World {
+    let mut world = World::new(WorldSettings {
+        integrator,
+        ..WorldSettings::default()
+    });
+    world.settings.solver.substeps = 1;
+    world
+}
+
 pub const DTS: [f64; 6] = [
     1.0 / 30.0,
     1.0 / 60.0,
@@ -22,10 +32,7 @@ const REPEATS: usize = 5;
 pub fn free_fall(integrator: Integrator, dt: f64) -> Measurement {
     let steps = (1.0 / dt).round() as usize;
     let (error, seconds) = median_time(REPEATS, || {
-        let mut world = World::new(WorldSettings {
-            integrator,
-            ..Default::default()
-        });
+        let mut world = integrator_world(integrator);
         world.forces.push(EnvironmentForce::earth_gravity());
         let ball = world
             .add_body(BodyDesc::dynamic(Shape::sphere(0.1)).at(DVec3::Y * 10.0))
@@ -51,10 +58,7 @@ pub fn intermediate_axis_spin(integrator: Integrator, dt: f64) -> Measurement {
     const SECONDS: f64 = 20.0;
     let steps = (SECONDS / dt).round() as usize;
     let (error, seconds) = median_time(REPEATS, || {
-        let mut world = World::new(WorldSettings {
-            integrator,
-            ..Default::default()
-        });
+        let mut world = integrator_world(integrator);
         let block = world
             .add_body(
                 BodyDesc::dynamic(Shape::cuboid(DVec3::new(0.1, 0.3, 0.6)))
