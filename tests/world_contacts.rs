@@ -260,3 +260,26 @@ fn an_awake_body_landing_on_a_sleeping_stack_wakes_it() {
     }
     assert!(woke, "the impact woke the box");
 }
+
+#[test]
+fn max_penetration_reports_the_overlap_found_before_solving() {
+    let mut world = world();
+    add_ground(&mut world);
+    // A 0.5 m sphere with its centre 0.4 m above the ground's top face: 0.1 m deep.
+    world
+        .add_body(BodyDesc::dynamic(Shape::sphere(0.5)).at(DVec3::Y * 0.4))
+        .unwrap();
+    world.step(1.0 / 60.0);
+    assert!(
+        (world.max_penetration() - 0.1).abs() < 1e-9,
+        "{}",
+        world.max_penetration()
+    );
+    // Pushed out at no more than max_push_out (3 m/s): nearly clear after half a second.
+    run(&mut world, 0.5);
+    assert!(
+        world.max_penetration() < 1e-3,
+        "{}",
+        world.max_penetration()
+    );
+}

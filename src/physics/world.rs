@@ -233,6 +233,16 @@ impl World {
         }
     }
 
+    /// The deepest overlap among the last step's contacts, m (0 when nothing overlaps).
+    pub fn max_penetration(&self) -> f64 {
+        let deepest = self
+            .manifolds
+            .iter()
+            .map(|m| m.min_separation())
+            .fold(0.0, f64::min);
+        -deepest
+    }
+
     /// The contact manifolds found in the last step.
     pub fn contacts(&self) -> &[ContactManifold] {
         &self.manifolds

@@ -12,14 +12,17 @@ pub enum SpawnKind {
     Box,
     Capsule,
     Cylinder,
+    /// A convex hull of random points.
+    Hull,
 }
 
 impl SpawnKind {
-    pub const ALL: [SpawnKind; 4] = [
+    pub const ALL: [SpawnKind; 5] = [
         SpawnKind::Sphere,
         SpawnKind::Box,
         SpawnKind::Capsule,
         SpawnKind::Cylinder,
+        SpawnKind::Hull,
     ];
 
     pub fn name(self) -> &'static str {
@@ -28,6 +31,7 @@ impl SpawnKind {
             SpawnKind::Box => "box",
             SpawnKind::Capsule => "capsule",
             SpawnKind::Cylinder => "cylinder",
+            SpawnKind::Hull => "hull",
         }
     }
 }

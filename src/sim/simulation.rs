@@ -188,6 +188,9 @@ impl Simulation {
             step_rate: self.rate.steps_per_second,
             step_wall_time: self.rate.mean_step,
             bodies: self.world.bodies().len(),
+            awake: self.world.awake_count(),
+            contacts: self.world.contacts().iter().map(|m| m.contacts.len()).sum(),
+            max_penetration: self.world.max_penetration(),
             kinetic_energy: totals.kinetic_energy,
             potential_energy: totals.potential_energy,
             linear_momentum: totals.linear_momentum.length(),
@@ -270,7 +273,8 @@ impl Simulation {
             ..Material::default()
         };
         // A small tilt and spin so that spawned bodies do not land perfectly flat.
-        let desc = BodyDesc::dynamic(spawn_shape(kind))
+        let seed = self.world.bodies().len() as u64;
+        let desc = BodyDesc::dynamic(spawn_shape(kind, seed))
             .named(kind.name())
             .at(position)
             .rotated(DQuat::from_rotation_z(0.3) * DQuat::from_rotation_x(0.2))
@@ -307,6 +311,7 @@ impl Simulation {
             potential_energy: c.potential_energy,
             linear_momentum: c.linear_momentum,
             angular_momentum: c.angular_momentum,
+            max_penetration: c.max_penetration,
         });
         if self.history.len() > HISTORY_LEN {
             self.history.pop_front();
@@ -314,13 +319,38 @@ impl Simulation {
     }
 }
 
-fn spawn_shape(kind: SpawnKind) -> Shape {
+fn spawn_shape(kind: SpawnKind, seed: u64) -> Shape {
     match kind {
         SpawnKind::Sphere => Shape::sphere(0.3),
         SpawnKind::Box => Shape::cuboid(DVec3::splat(0.3)),
         SpawnKind::Capsule => Shape::capsule(0.3, 0.2),
         SpawnKind::Cylinder => Shape::cylinder(0.25, 0.3),
+        SpawnKind::Hull => random_hull(seed),
     }
+}
+
+/// The hull of 14 points at random directions and radii 0.2 to 0.35 m. Points spread over a
+/// sphere never all lie in one plane, so the hull always exists.
+fn random_hull(seed: u64) -> Shape {
+    let mut state = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    let mut next = move || {
+        // A 64-bit linear congruential generator; the top 53 bits give a uniform [0, 1).
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let points: Vec<DVec3> = (0..14)
+        .map(|_| {
+            let z = 2.0 * next() - 1.0;
+            let angle = std::f64::consts::TAU * next();
+            let ring = (1.0 - z * z).sqrt();
+            DVec3::new(ring * angle.cos(), z, ring * angle.sin()) * (0.2 + 0.15 * next())
+        })
+        .collect();
+    Shape::hull(&points).unwrap_or(Shape::sphere(0.3))
 }
 
 /// The first gravity field of the world, or zero.
@@ -436,6 +466,37 @@ fn contact_lines(world: &World) -> Vec<LineSegment> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn spawned_hulls_are_valid_convex_hulls() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        for i in 0..5 {
+            sim.apply(Command::Spawn {
+                kind: SpawnKind::Hull,
+                position: DVec3::new(i as f64, 3.0, 0.0),
+                velocity: DVec3::ZERO,
+            });
+        }
+        let hulls: Vec<_> = sim
+            .world()
+            .bodies()
+            .iter()
+            .filter_map(|b| match &b.shape {
+                Shape::ConvexHull(hull) => Some(hull.clone()),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(hulls.len(), 5);
+        for hull in &hulls {
+            assert!(hull.validate().is_ok());
+            // 14 points on a sphere shell: most of them are hull vertices.
+            assert!(hull.vertices.len() >= 8, "{}", hull.vertices.len());
+        }
+        assert_ne!(
+            hulls[0].vertices, hulls[1].vertices,
+            "each spawn gets its own points"
+        );
+    }
 
     #[test]
     fn step_once_advances_one_dt() {

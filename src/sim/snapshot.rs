@@ -72,6 +72,12 @@ pub struct Counters {
     /// Mean wall time of one `World::step` over the same window, s.
     pub step_wall_time: f64,
     pub bodies: usize,
+    /// Dynamic bodies not asleep.
+    pub awake: usize,
+    /// Contact points of the last step, speculative ones included.
+    pub contacts: usize,
+    /// Deepest overlap of the last step, m.
+    pub max_penetration: f64,
     pub kinetic_energy: f64,
     pub potential_energy: f64,
     pub linear_momentum: f64,
@@ -86,6 +92,7 @@ pub struct HistorySample {
     pub potential_energy: f64,
     pub linear_momentum: f64,
     pub angular_momentum: f64,
+    pub max_penetration: f64,
 }
 
 /// The settings in force, so the UI shows what the simulation really uses.

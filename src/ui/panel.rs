@@ -85,6 +85,9 @@ impl Panel {
             egui::CollapsingHeader::new("Momentum (N·s, N·m·s)")
                 .default_open(true)
                 .show(ui, |ui| plots::momentum(ui, &snapshot.history));
+            egui::CollapsingHeader::new("Deepest overlap (mm)")
+                .default_open(false)
+                .show(ui, |ui| plots::penetration(ui, &snapshot.history));
             if let Some(message) = &snapshot.message {
                 ui.colored_label(egui::Color32::LIGHT_RED, message);
             }
@@ -256,6 +259,10 @@ fn counters(ui: &mut egui::Ui, snapshot: &Snapshot, stats: FrameStats) {
             ("sim rate", format!("{:.0}/s", c.step_rate)),
             ("step", format!("{:.3} ms", c.step_wall_time * 1e3)),
         ],
+        [
+            ("awake", c.awake.to_string()),
+            ("contacts", c.contacts.to_string()),
+        ],
     ];
     let singles = [
         ("render", format!("{:.0} fps", stats.frames_per_second)),
@@ -265,6 +272,7 @@ fn counters(ui: &mut egui::Ui, snapshot: &Snapshot, stats: FrameStats) {
         ),
         ("|p|", format!("{:.3} N·s", c.linear_momentum)),
         ("|L|", format!("{:.3} N·m·s", c.angular_momentum)),
+        ("max overlap", format!("{:.2} mm", c.max_penetration * 1e3)),
     ];
     // Short counters two to a row keep the plots in view on a 720-pixel window.
     egui::Grid::new("short counters")

@@ -1,4 +1,5 @@
-//! Live plots of the history the simulation keeps: energy and momentum against sim time.
+//! Live plots of the history the simulation keeps: energy, momentum and the deepest contact
+//! overlap against sim time.
 
 use egui_plot::{Corner, Legend, Line, Plot, PlotPoints};
 
@@ -28,6 +29,15 @@ pub fn momentum(ui: &mut egui::Ui, history: &[HistorySample]) {
             ("|p| linear", |s| s.linear_momentum),
             ("|L| angular", |s| s.angular_momentum),
         ],
+    );
+}
+
+pub fn penetration(ui: &mut egui::Ui, history: &[HistorySample]) {
+    plot(
+        ui,
+        "penetration",
+        history,
+        &[("max overlap (mm)", |s| s.max_penetration * 1e3)],
     );
 }
 
