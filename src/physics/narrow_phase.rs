@@ -25,23 +25,48 @@ pub fn motion_bound(body: &RigidBody, dt: f64) -> f64 {
     (body.velocity().length() + body.angular_velocity().length() * reach) * dt.abs()
 }
 
-/// Broad-phase proxies: each body's box grown by half the fixed margin and by its motion
-/// bound. Isolated bodies get an empty box so that they meet nothing.
-pub fn proxies(bodies: &[RigidBody], dt: f64) -> Vec<Proxy> {
-    bodies
-        .iter()
-        .map(|body| match body.motion {
-            Motion::Isolated => Proxy {
-                aabb: Aabb::new(DVec3::INFINITY, DVec3::NEG_INFINITY),
-                active: false,
-            },
-            // Sleeping bodies are inactive: they pair with awake bodies only.
-            _ => Proxy {
-                active: body.is_awake(),
-                ..Proxy::of_body(body, 0.5 * SPECULATIVE_DISTANCE + motion_bound(body, dt))
-            },
-        })
-        .collect()
+/// A proxy that overlaps nothing.
+const EMPTY_PROXY: Proxy = Proxy {
+    aabb: Aabb {
+        min: DVec3::INFINITY,
+        max: DVec3::NEG_INFINITY,
+    },
+    active: false,
+};
+
+/// A body's broad-phase proxy: its box grown by half the fixed margin and by its motion
+/// bound. Sleeping bodies are inactive (they pair with awake bodies only); isolated bodies
+/// get an empty box so that they meet nothing.
+pub fn proxy_of(body: &RigidBody, dt: f64) -> Proxy {
+    match body.motion {
+        Motion::Isolated => EMPTY_PROXY,
+        _ => Proxy {
+            active: body.is_awake(),
+            ..Proxy::of_body(body, 0.5 * SPECULATIVE_DISTANCE + motion_bound(body, dt))
+        },
+    }
+}
+
+/// Refreshes the proxies of awake bodies and of bodies marked `stale`. Static and sleeping
+/// bodies do not move, so their boxes are kept from when they were last computed: idle bodies
+/// cost a flag test per step, not a bounding-box computation.
+pub fn update_proxies(
+    bodies: &[RigidBody],
+    dt: f64,
+    proxies: &mut Vec<Proxy>,
+    stale: &mut Vec<bool>,
+) {
+    proxies.resize(bodies.len(), EMPTY_PROXY);
+    stale.resize(bodies.len(), true);
+    for ((body, proxy), stale) in bodies.iter().zip(proxies.iter_mut()).zip(stale.iter_mut()) {
+        if body.is_awake() || *stale || body.motion == Motion::Isolated {
+            *proxy = proxy_of(body, dt);
+            *stale = false;
+        } else {
+            // Fell asleep since: keep the box, stop initiating pairs.
+            proxy.active = false;
+        }
+    }
 }
 
 /// The manifolds of all candidate pairs whose surfaces are, or may come, within reach.

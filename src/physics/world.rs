@@ -22,7 +22,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::physics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
-use crate::physics::broad_phase::{BodyPair, BroadPhase, BroadPhaseKind};
+use crate::physics::broad_phase::{BodyPair, BroadPhase, BroadPhaseKind, Proxy};
 use crate::physics::classic::{self, ClassicContext, ClassicReport, ClassicSettings};
 use crate::physics::contact::ContactManifold;
 use crate::physics::contact_cache::ContactCache;
@@ -60,6 +60,10 @@ pub enum Pipeline {
 pub struct World {
     bodies: Vec<RigidBody>,
     broad_phase: BroadPhaseState,
+    /// Broad-phase proxies kept between steps (see `narrow_phase::update_proxies`), and which
+    /// of them must be recomputed because the user may have moved the body.
+    proxies: Vec<Proxy>,
+    stale_proxies: Vec<bool>,
     manifolds: Vec<ContactManifold>,
     contact_cache: ContactCache,
     /// The force list as the last step saw it: an edit wakes every body.
@@ -148,7 +152,11 @@ impl World {
         &self.bodies[id.index()]
     }
 
+    /// Mutable access; the body's broad-phase box is recomputed at the next step.
     pub fn body_mut(&mut self, id: BodyId) -> &mut RigidBody {
+        if let Some(stale) = self.stale_proxies.get_mut(id.index()) {
+            *stale = true;
+        }
         &mut self.bodies[id.index()]
     }
 
@@ -222,10 +230,13 @@ impl World {
 
     /// A changed force list, or a force a user put on a sleeping body, wakes it.
     fn wake_on_user_input(&mut self) {
+        // Before the first step there is nothing to compare with: bodies start awake anyway,
+        // and one put to sleep by hand stays asleep.
         let forces_changed = self.forces != self.forces_seen;
         if forces_changed {
             self.forces_seen = self.forces.clone();
         }
+        let forces_changed = forces_changed && self.steps > 0;
         for body in self.bodies.iter_mut().filter(|b| b.sleeping) {
             if forces_changed || body.force != DVec3::ZERO || body.torque != DVec3::ZERO {
                 body.wake();
@@ -252,8 +263,8 @@ impl World {
         if self.broad_phase.kind != self.settings.broad_phase {
             self.broad_phase = BroadPhaseState::new(self.settings.broad_phase);
         }
-        let proxies = narrow_phase::proxies(&self.bodies, dt);
-        self.broad_phase.implementation.find_pairs(&proxies)
+        narrow_phase::update_proxies(&self.bodies, dt, &mut self.proxies, &mut self.stale_proxies);
+        self.broad_phase.implementation.find_pairs(&self.proxies)
     }
 
     /// Forces, integration and contacts together, in substeps (see `soft_solver`).
