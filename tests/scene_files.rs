@@ -60,8 +60,8 @@ fn built_in_scenes_have_the_bodies_their_generators_promise() {
     assert_eq!(built_count("pyramid"), 1 + 20 * 21 / 2);
     assert_eq!(built_count("pyramid"), 211);
     assert_eq!(built_count("dzhanibekov"), 1);
-    // back plate, 2 walls, bottom, 13 dividers, 15 × 21 pins, 12 × 5 balls
-    assert_eq!(built_count("pachinko"), 4 + 13 + 15 * 21 + 12 * 5);
+    // back plate, 2 walls, hidden glass, bottom, 13 dividers, 15 × 21 pins, 12 × 5 balls
+    assert_eq!(built_count("pachinko"), 5 + 13 + 15 * 21 + 12 * 5);
     // 5 bin walls, then spheres, boxes, capsules, cylinders
     assert_eq!(
         built_count("rain"),

@@ -251,7 +251,8 @@ impl World {
             .iter()
             .map(|m| m.min_separation())
             .fold(0.0, f64::min);
-        -deepest
+        // 0 − x rather than −x: no negative zero when nothing overlaps.
+        0.0 - deepest
     }
 
     /// The contact manifolds found in the last step.

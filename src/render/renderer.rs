@@ -271,7 +271,7 @@ impl SceneRenderer {
     /// One instance per body, grouped by shape so each shape is a single draw.
     fn upload_instances(&mut self, gpu: &Gpu, frame: &FrameInput) {
         let bodies = &frame.snapshot.bodies;
-        let mut order: Vec<usize> = (0..bodies.len()).collect();
+        let mut order: Vec<usize> = (0..bodies.len()).filter(|&i| bodies[i].visible).collect();
         order.sort_by_key(|&i| bodies[i].shape_id);
         let mut instances = Vec::with_capacity(order.len());
         self.draws.clear();
@@ -306,7 +306,12 @@ impl SceneRenderer {
         }
         let world_end = lines.vertices.len() as u32;
         let snapshot = frame.snapshot;
-        for (body, pose) in snapshot.bodies.iter().zip(frame.poses) {
+        let drawn = snapshot
+            .bodies
+            .iter()
+            .zip(frame.poses)
+            .filter(|(b, _)| b.visible);
+        for (body, pose) in drawn {
             if frame.overlays.aabbs {
                 // The box was computed at the newest pose: carry it along to the drawn one.
                 let shift = pose.position - body.pose.position;

@@ -44,6 +44,17 @@ impl Scene {
         Ok(descs)
     }
 
+    /// For each body the scene makes (in `build_world` order), whether it is hidden.
+    pub fn hidden_bodies(&self) -> Vec<bool> {
+        self.bodies
+            .iter()
+            .flat_map(|body| {
+                let count = expand::count(body.repeat.as_ref()) as usize;
+                std::iter::repeat_n(body.hidden, count)
+            })
+            .collect()
+    }
+
     /// The number of bodies the scene makes, generators expanded.
     pub fn body_count(&self) -> u64 {
         self.bodies

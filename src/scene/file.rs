@@ -113,6 +113,9 @@ pub struct BodySpec {
     /// A static body never moves (infinite mass).
     #[serde(default, rename = "static")]
     pub is_static: bool,
+    /// Simulated but not drawn, like a machine's front glass.
+    #[serde(default)]
+    pub hidden: bool,
     #[serde(default)]
     pub repeat: Option<Repeat>,
 }

@@ -19,6 +19,8 @@ pub struct CameraHint {
 pub struct SceneSetup {
     pub world: World,
     pub camera: CameraHint,
+    /// Per body index: simulated but not drawn.
+    pub hidden: Vec<bool>,
 }
 
 /// The names of the built-in scenes, in the order the viewer lists them.
@@ -32,6 +34,7 @@ pub fn build(name_or_path: &str) -> Result<SceneSetup, String> {
     let loaded = scene::load(name_or_path).map_err(|e| e.to_string())?;
     let world = loaded.build_world().map_err(|e| e.to_string())?;
     Ok(SceneSetup {
+        hidden: loaded.hidden_bodies(),
         world,
         camera: CameraHint {
             eye: loaded.camera.eye.as_vec3(),

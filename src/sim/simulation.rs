@@ -37,6 +37,8 @@ pub struct Simulation {
     shapes: ShapeTable,
     shape_ids: Vec<u32>,
     previous: Vec<BodyPose>,
+    /// Bodies the scene hides; spawned bodies are always drawn.
+    hidden: Vec<bool>,
     history: VecDeque<HistorySample>,
     rate: RateMeter,
     /// The last command that could not be applied, shown by the UI.
@@ -67,6 +69,7 @@ impl Simulation {
             shapes: ShapeTable::default(),
             shape_ids: Vec::new(),
             previous: Vec::new(),
+            hidden: Vec::new(),
             history: VecDeque::new(),
             rate: RateMeter::default(),
             message: None,
@@ -147,7 +150,10 @@ impl Simulation {
             .bodies()
             .iter()
             .enumerate()
-            .map(|(i, body)| body_state(body, self.previous[i], self.shape_ids[i]))
+            .map(|(i, body)| {
+                let visible = !self.hidden.get(i).copied().unwrap_or(false);
+                body_state(body, self.previous[i], self.shape_ids[i], visible)
+            })
             .collect();
         let step_interval = if self.settings.time_scale > 0.0 {
             self.settings.dt / self.settings.time_scale
@@ -211,6 +217,7 @@ impl Simulation {
         self.scene = name.to_string();
         self.camera = setup.camera;
         self.world = setup.world;
+        self.hidden = setup.hidden;
         self.apply_world_settings();
         self.settings.gravity = gravity_of(&self.world);
         if let Some(body) = self.world.bodies().iter().find(|b| b.is_dynamic()) {
@@ -372,7 +379,7 @@ fn pose_of(body: &RigidBody) -> BodyPose {
     }
 }
 
-fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32) -> BodyState {
+fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32, visible: bool) -> BodyState {
     let min = DVec3::new(
         body.world_support(-DVec3::X).x,
         body.world_support(-DVec3::Y).y,
@@ -397,6 +404,7 @@ fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32) -> BodyState 
         },
         is_dynamic: body.is_dynamic(),
         sleeping: body.sleeping,
+        visible,
         velocity: body.velocity().as_vec3(),
         angular_velocity: body.angular_velocity().as_vec3(),
     }

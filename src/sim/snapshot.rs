@@ -43,6 +43,8 @@ pub struct BodyState {
     pub is_dynamic: bool,
     /// Asleep: drawn in the sleep colour.
     pub sleeping: bool,
+    /// False for bodies the scene hides (simulated, not drawn, not pickable).
+    pub visible: bool,
     pub velocity: Vec3,
     pub angular_velocity: Vec3,
 }

@@ -99,6 +99,7 @@ mod tests {
             mass: 2.0,
             is_dynamic: true,
             sleeping: false,
+            visible: true,
             velocity: Vec3::ZERO,
             angular_velocity: Vec3::ZERO,
         };

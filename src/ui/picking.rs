@@ -25,6 +25,7 @@ pub fn pick(ray: &Ray, snapshot: &Snapshot, poses: &[BodyPose]) -> Option<Pick> 
         .iter()
         .zip(poses)
         .enumerate()
+        .filter(|(_, (body, _))| body.visible)
         .filter_map(|(index, (body, pose))| {
             let shift = pose.position - body.pose.position;
             let aabb = ray_box(ray, body.aabb.0 + shift, body.aabb.1 + shift)?;
