@@ -33,6 +33,7 @@ use crate::physics::broad_phase::BodyPair;
 use crate::physics::contact::ContactManifold;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::gjk::gjk_distance;
+use crate::physics::impulse::{Arms, clamp_to_friction_disc, tangent_basis};
 use crate::physics::integrate::{self, Integrator};
 use crate::physics::manifold::contact_manifold;
 use crate::physics::toi::{bisection_rewind, conservative_advancement};
@@ -262,12 +263,9 @@ fn advance_copy(body: &mut RigidBody, time: f64, integrator: Integrator) {
 
 /// One contact point of an event, with what the impulses need.
 struct ImpactPoint {
-    a: usize,
-    b: usize,
+    arms: Arms,
     normal: DVec3,
     tangents: [DVec3; 2],
-    r_a: DVec3,
-    r_b: DVec3,
     normal_mass: f64,
     tangent_mass: [f64; 2],
     /// Normal relative speed wanted after the impact: −ε times the approach speed, or 0.
@@ -309,16 +307,8 @@ fn impact_point(
     settings: &ClassicSettings,
 ) -> ImpactPoint {
     let (body_a, body_b) = (&bodies[a], &bodies[b]);
-    let (r_a, r_b) = (position - body_a.position, position - body_b.position);
-    // The report's denominator: 1/mA + 1/mB + n·((IA⁻¹(rA × n)) × rA + (IB⁻¹(rB × n)) × rB).
-    let effective_mass = |d: DVec3| {
-        let k = body_a.inv_mass
-            + body_b.inv_mass
-            + d.dot((body_a.inv_inertia_world * r_a.cross(d)).cross(r_a))
-            + d.dot((body_b.inv_inertia_world * r_b.cross(d)).cross(r_b));
-        if k > 0.0 { 1.0 / k } else { 0.0 }
-    };
-    let approach = normal.dot(body_b.point_velocity(position) - body_a.point_velocity(position));
+    let arms = Arms::at(bodies, a, b, position);
+    let approach = normal.dot(arms.relative_velocity(bodies));
     let restitution = body_a.material.restitution.min(body_b.material.restitution);
     let target_speed = if approach < -settings.resting_speed {
         -restitution * approach
@@ -327,14 +317,16 @@ fn impact_point(
     };
     let tangents = tangent_basis(normal);
     ImpactPoint {
-        a,
-        b,
+        arms,
         normal,
         tangents,
-        r_a,
-        r_b,
-        normal_mass: effective_mass(normal),
-        tangent_mass: [effective_mass(tangents[0]), effective_mass(tangents[1])],
+        // The report's impulse J = −(1 + ε) v_r / denominator is this mass times the change
+        // of normal speed, from v_r to −ε v_r.
+        normal_mass: arms.effective_mass(bodies, normal),
+        tangent_mass: [
+            arms.effective_mass(bodies, tangents[0]),
+            arms.effective_mass(bodies, tangents[1]),
+        ],
         target_speed,
         friction: (body_a.material.friction * body_b.material.friction).sqrt(),
         normal_impulse: 0.0,
@@ -342,55 +334,23 @@ fn impact_point(
     }
 }
 
-fn tangent_basis(n: DVec3) -> [DVec3; 2] {
-    let helper = if n.x.abs() < 0.57 { DVec3::X } else { DVec3::Y };
-    let t1 = n.cross(helper).normalize();
-    [t1, n.cross(t1)]
-}
-
-fn relative_velocity(bodies: &[RigidBody], p: &ImpactPoint) -> DVec3 {
-    let (a, b) = (&bodies[p.a], &bodies[p.b]);
-    (b.velocity() + b.angular_velocity().cross(p.r_b))
-        - (a.velocity() + a.angular_velocity().cross(p.r_a))
-}
-
-fn push(bodies: &mut [RigidBody], p: &ImpactPoint, impulse: DVec3) {
-    for (index, lever, sign) in [(p.a, p.r_a, -1.0), (p.b, p.r_b, 1.0)] {
-        let body = &mut bodies[index];
-        if body.is_awake() {
-            body.linear_momentum += impulse * sign;
-            body.angular_momentum += lever.cross(impulse * sign);
-        }
-    }
-}
-
 /// The accumulated normal impulse reaches the target speed and never pulls; friction stays
 /// inside the Coulomb disc of radius μ times the normal impulse.
 fn solve_point(bodies: &mut [RigidBody], p: &mut ImpactPoint) {
-    let normal_speed = p.normal.dot(relative_velocity(bodies, p));
+    let normal_speed = p.normal.dot(p.arms.relative_velocity(bodies));
     let total = (p.normal_impulse + p.normal_mass * (p.target_speed - normal_speed)).max(0.0);
     let applied = total - p.normal_impulse;
     p.normal_impulse = total;
-    push(bodies, p, p.normal * applied);
+    p.arms.apply(bodies, p.normal * applied);
 
-    let slip = relative_velocity(bodies, p);
-    let tangent_speed = [p.tangents[0].dot(slip), p.tangents[1].dot(slip)];
-    let mut tangent = [
-        p.tangent_impulse[0] - p.tangent_mass[0] * tangent_speed[0],
-        p.tangent_impulse[1] - p.tangent_mass[1] * tangent_speed[1],
+    let slip = p.arms.relative_velocity(bodies);
+    let unclamped = [
+        p.tangent_impulse[0] - p.tangent_mass[0] * p.tangents[0].dot(slip),
+        p.tangent_impulse[1] - p.tangent_mass[1] * p.tangents[1].dot(slip),
     ];
-    let limit = p.friction * p.normal_impulse;
-    let magnitude = (tangent[0] * tangent[0] + tangent[1] * tangent[1]).sqrt();
-    if magnitude > limit {
-        let scale = if magnitude > 0.0 {
-            limit / magnitude
-        } else {
-            0.0
-        };
-        tangent = [tangent[0] * scale, tangent[1] * scale];
-    }
+    let tangent = clamp_to_friction_disc(unclamped, p.friction * p.normal_impulse);
     let change = p.tangents[0] * (tangent[0] - p.tangent_impulse[0])
         + p.tangents[1] * (tangent[1] - p.tangent_impulse[1]);
     p.tangent_impulse = tangent;
-    push(bodies, p, change);
+    p.arms.apply(bodies, change);
 }

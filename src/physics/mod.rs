@@ -14,6 +14,7 @@ pub mod epa;
 pub mod forces;
 pub mod gjk;
 pub mod hull;
+pub mod impulse;
 pub mod integrate;
 pub mod islands;
 pub mod manifold;

@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::physics::body::RigidBody;
 use crate::physics::forces::{self, EnvironmentForce};
+use crate::physics::impulse::{Arms, clamp_to_friction_disc, tangent_basis};
 use crate::physics::integrate::{self, Integrator};
 
 /// A contact point handed to the solver. The normal points from body `a` to body `b`.
@@ -80,16 +81,10 @@ impl Default for SoftSolverSettings {
 /// One prepared contact point.
 #[derive(Clone, Copy, Debug)]
 struct PointConstraint {
-    a: usize,
-    b: usize,
+    arms: Arms,
     normal: DVec3,
     tangents: [DVec3; 2],
-    /// Lever arms (contact point − centre of mass), world axes, fixed for the step: the
-    /// impulses act where the bodies touch, not where that material point has rotated to
-    /// (a rolling ball keeps pushing at its bottom).
-    r_a: DVec3,
-    r_b: DVec3,
-    /// The same arms in body axes: the separation follows the bodies as they turn.
+    /// The same lever arms in body axes: the separation follows the bodies as they turn.
     anchor_a: DVec3,
     anchor_b: DVec3,
     /// Separation = normal · (world anchor b − world anchor a) + separation_offset.
@@ -207,35 +202,25 @@ fn prepare(
     let (a, b) = (&bodies[contact.a], &bodies[contact.b]);
     let normal = contact.normal;
     let tangents = tangent_basis(normal);
-    let r_a = contact.point - a.position;
-    let r_b = contact.point - b.position;
-    let effective_mass = |direction: DVec3| {
-        let k = a.inv_mass
-            + b.inv_mass
-            + r_a
-                .cross(direction)
-                .dot(a.inv_inertia_world * r_a.cross(direction))
-            + r_b
-                .cross(direction)
-                .dot(b.inv_inertia_world * r_b.cross(direction));
-        if k > 0.0 { 1.0 / k } else { 0.0 }
-    };
-    let relative_velocity = b.point_velocity(contact.point) - a.point_velocity(contact.point);
+    // The arms stay fixed for the step: impulses act where the bodies touch, not where that
+    // material point has rotated to (a rolling ball keeps pushing at its bottom).
+    let arms = Arms::at(bodies, contact.a, contact.b, contact.point);
+    let (r_a, r_b) = (arms.r_a, arms.r_b);
     PointConstraint {
-        a: contact.a,
-        b: contact.b,
+        arms,
         normal,
         tangents,
-        r_a,
-        r_b,
         anchor_a: a.orientation.transpose() * r_a,
         anchor_b: b.orientation.transpose() * r_b,
         separation_offset: contact.separation - normal.dot(r_b - r_a + b.position - a.position),
-        normal_mass: effective_mass(normal),
-        tangent_mass: [effective_mass(tangents[0]), effective_mass(tangents[1])],
+        normal_mass: arms.effective_mass(bodies, normal),
+        tangent_mass: [
+            arms.effective_mass(bodies, tangents[0]),
+            arms.effective_mass(bodies, tangents[1]),
+        ],
         impulse: contact.warm_impulse,
         max_normal_impulse: 0.0,
-        approach_speed: normal.dot(relative_velocity),
+        approach_speed: normal.dot(arms.relative_velocity(bodies)),
         approach_acceleration: normal
             .dot(environment_acceleration(b, forces) - environment_acceleration(a, forces)),
         friction: (a.material.friction * b.material.friction).sqrt(),
@@ -243,54 +228,20 @@ fn prepare(
     }
 }
 
-/// Two unit vectors orthogonal to `n` and to each other.
-fn tangent_basis(n: DVec3) -> [DVec3; 2] {
-    let helper = if n.x.abs() < 0.57 { DVec3::X } else { DVec3::Y };
-    let t1 = n.cross(helper).normalize();
-    [t1, n.cross(t1)]
-}
-
 /// Current separation: the anchors carried along by the bodies' motion in this step.
 fn current_separation(bodies: &[RigidBody], c: &PointConstraint) -> f64 {
-    let (a, b) = (&bodies[c.a], &bodies[c.b]);
+    let (a, b) = (&bodies[c.arms.a], &bodies[c.arms.b]);
     let anchor_a = a.position + a.orientation * c.anchor_a;
     let anchor_b = b.position + b.orientation * c.anchor_b;
     c.normal.dot(anchor_b - anchor_a) + c.separation_offset
 }
 
-fn relative_velocity(bodies: &[RigidBody], c: &PointConstraint, r_a: DVec3, r_b: DVec3) -> DVec3 {
-    let (a, b) = (&bodies[c.a], &bodies[c.b]);
-    let v_b = b.velocity() + b.angular_velocity().cross(r_b);
-    let v_a = a.velocity() + a.angular_velocity().cross(r_a);
-    v_b - v_a
-}
-
-/// Applies +impulse to b and −impulse to a at their lever arms (static bodies ignore it).
-fn apply_pair_impulse(
-    bodies: &mut [RigidBody],
-    c: &PointConstraint,
-    r_a: DVec3,
-    r_b: DVec3,
-    impulse: DVec3,
-) {
-    apply_impulse(&mut bodies[c.a], r_a, -impulse);
-    apply_impulse(&mut bodies[c.b], r_b, impulse);
-}
-
-fn apply_impulse(body: &mut RigidBody, lever: DVec3, impulse: DVec3) {
-    if body.is_awake() {
-        body.linear_momentum += impulse;
-        body.angular_momentum += lever.cross(impulse);
-    }
-}
-
 fn warm_start(bodies: &mut [RigidBody], constraints: &[PointConstraint]) {
     for c in constraints {
-        let (r_a, r_b) = (c.r_a, c.r_b);
         let impulse = c.normal * c.impulse.normal
             + c.tangents[0] * c.impulse.tangent[0]
             + c.tangents[1] * c.impulse.tangent[1];
-        apply_pair_impulse(bodies, c, r_a, r_b, impulse);
+        c.arms.apply(bodies, impulse);
     }
 }
 
@@ -303,17 +254,14 @@ fn solve(
     bias: Option<(Softness, f64)>,
 ) {
     for c in constraints.iter_mut() {
-        let (r_a, r_b) = (c.r_a, c.r_b);
-        solve_normal(bodies, c, r_a, r_b, h, bias);
-        solve_friction(bodies, c, r_a, r_b);
+        solve_normal(bodies, c, h, bias);
+        solve_friction(bodies, c);
     }
 }
 
 fn solve_normal(
     bodies: &mut [RigidBody],
     c: &mut PointConstraint,
-    r_a: DVec3,
-    r_b: DVec3,
     h: f64,
     bias: Option<(Softness, f64)>,
 ) {
@@ -330,7 +278,7 @@ fn solve_normal(
     } else {
         (0.0, 1.0, 0.0)
     };
-    let normal_speed = c.normal.dot(relative_velocity(bodies, c, r_a, r_b));
+    let normal_speed = c.normal.dot(c.arms.relative_velocity(bodies));
     let delta = -c.normal_mass * mass_scale * (normal_speed + velocity_bias)
         - impulse_scale * c.impulse.normal;
     let accumulated = (c.impulse.normal + delta).max(0.0);
@@ -343,31 +291,22 @@ fn solve_normal(
     }
     c.impulse.normal = accumulated;
     c.max_normal_impulse = c.max_normal_impulse.max(applied);
-    apply_pair_impulse(bodies, c, r_a, r_b, c.normal * applied);
+    c.arms.apply(bodies, c.normal * applied);
 }
 
 /// Coulomb friction: the tangential impulse stays inside the disc of radius μ·λn.
-fn solve_friction(bodies: &mut [RigidBody], c: &mut PointConstraint, r_a: DVec3, r_b: DVec3) {
+fn solve_friction(bodies: &mut [RigidBody], c: &mut PointConstraint) {
     let limit = c.friction * c.impulse.normal;
-    let slip = relative_velocity(bodies, c, r_a, r_b);
-    let mut accumulated = [0.0; 2];
-    for (axis, total) in accumulated.iter_mut().enumerate() {
-        let speed = c.tangents[axis].dot(slip);
-        *total = c.impulse.tangent[axis] - c.tangent_mass[axis] * speed;
-    }
-    let magnitude = (accumulated[0].powi(2) + accumulated[1].powi(2)).sqrt();
-    if magnitude > limit {
-        let scale = if magnitude > 0.0 {
-            limit / magnitude
-        } else {
-            0.0
-        };
-        accumulated = [accumulated[0] * scale, accumulated[1] * scale];
-    }
+    let slip = c.arms.relative_velocity(bodies);
+    let unclamped = [
+        c.impulse.tangent[0] - c.tangent_mass[0] * c.tangents[0].dot(slip),
+        c.impulse.tangent[1] - c.tangent_mass[1] * c.tangents[1].dot(slip),
+    ];
+    let accumulated = clamp_to_friction_disc(unclamped, limit);
     let applied = c.tangents[0] * (accumulated[0] - c.impulse.tangent[0])
         + c.tangents[1] * (accumulated[1] - c.impulse.tangent[1]);
     c.impulse.tangent = accumulated;
-    apply_pair_impulse(bodies, c, r_a, r_b, applied);
+    c.arms.apply(bodies, applied);
 }
 
 /// Newton's restitution on contacts that were approaching faster than the threshold:
@@ -381,12 +320,11 @@ fn apply_restitution(
         if c.restitution == 0.0 || c.approach_speed > -threshold || c.max_normal_impulse == 0.0 {
             continue;
         }
-        let (r_a, r_b) = (c.r_a, c.r_b);
-        let normal_speed = c.normal.dot(relative_velocity(bodies, c, r_a, r_b));
+        let normal_speed = c.normal.dot(c.arms.relative_velocity(bodies));
         let delta = -c.normal_mass * (normal_speed + c.restitution * c.approach_speed);
         let accumulated = (c.impulse.normal + delta).max(0.0);
         let applied = accumulated - c.impulse.normal;
         c.impulse.normal = accumulated;
-        apply_pair_impulse(bodies, c, r_a, r_b, c.normal * applied);
+        c.arms.apply(bodies, c.normal * applied);
     }
 }
