@@ -12,7 +12,7 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 use image::{Rgba, RgbaImage};
-use rigid::render::lines::AABB_COLOR;
+use rigid::render::lines::{AABB_COLOR, BROAD_PHASE_COLOR};
 use rigid::render::renderer::SLEEP_COLOR;
 use rigid::render::{Gpu, OrbitCamera, Overlays, headless};
 use rigid::sim::Snapshot;
@@ -216,6 +216,31 @@ fn aabb_overlay_draws_its_colour_only_when_on() {
     assert!(
         without < 20,
         "{without} AABB-coloured pixels with the overlay off"
+    );
+}
+
+#[test]
+fn broad_phase_overlay_draws_the_awake_boxes_only_when_on() {
+    let gpu = gpu();
+    // The box is still falling, so it is awake and has a broad-phase box.
+    let snapshot = simulate("falling_box", 30);
+    assert!(!snapshot.broad_phase_boxes.is_empty());
+    let on = Overlays {
+        broad_phase: true,
+        ..Overlays::default()
+    };
+    let with = count_near(&render(&gpu, &snapshot, on), BROAD_PHASE_COLOR);
+    let without = count_near(
+        &render(&gpu, &snapshot, Overlays::default()),
+        BROAD_PHASE_COLOR,
+    );
+    assert!(
+        with > 200,
+        "broad-phase overlay drew only {with} pixels of its colour"
+    );
+    assert!(
+        without < 20,
+        "{without} broad-phase-coloured pixels with the overlay off"
     );
 }
 

@@ -223,6 +223,12 @@ impl World {
         self.contact_cache.clear();
     }
 
+    /// The boxes the broad phase sorted in the last step, by body index: each body's bounds
+    /// grown by the speculative margin and by how far it can move in a step.
+    pub fn broad_phase_proxies(&self) -> &[Proxy] {
+        &self.proxies
+    }
+
     /// Dynamic bodies that were awake in the last step.
     pub fn awake_count(&self) -> usize {
         self.awake

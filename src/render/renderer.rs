@@ -8,7 +8,7 @@ use wgpu::util::DeviceExt;
 
 use crate::render::camera::OrbitCamera;
 use crate::render::gpu::Gpu;
-use crate::render::lines::{AABB_COLOR, LineList};
+use crate::render::lines::{AABB_COLOR, BROAD_PHASE_COLOR, LineList};
 use crate::render::mesh;
 use crate::render::pipelines::{DEPTH_FORMAT, Globals, Instance, Pipelines};
 use crate::sim::snapshot::BodyPose;
@@ -39,6 +39,8 @@ pub struct Overlays {
     pub aabbs: bool,
     pub velocities: bool,
     pub contacts: bool,
+    /// The broad phase's boxes of awake bodies (bounds grown by the step's reach).
+    pub broad_phase: bool,
     /// Draw sleeping bodies in `SLEEP_COLOR`.
     pub sleep_tint: bool,
 }
@@ -50,6 +52,7 @@ impl Default for Overlays {
             aabbs: false,
             velocities: false,
             contacts: true,
+            broad_phase: false,
             sleep_tint: true,
         }
     }
@@ -323,6 +326,11 @@ impl SceneRenderer {
         }
         if frame.overlays.contacts {
             lines.segments(&snapshot.lines);
+        }
+        if frame.overlays.broad_phase {
+            for &(min, max) in &snapshot.broad_phase_boxes {
+                lines.aabb(min, max, BROAD_PHASE_COLOR);
+            }
         }
         lines.segments(frame.extra_lines);
         self.world_lines = 0..world_end;

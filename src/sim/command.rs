@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::physics::{Integrator, Pipeline};
+use crate::physics::{BroadPhaseKind, Integrator, Pipeline};
 
 /// The primitive a spawn button creates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,6 +59,8 @@ pub enum Command {
     SetIntegrator(Integrator),
     /// The contact pipeline: the soft solver or the report's classic method.
     SetPipeline(Pipeline),
+    /// The broad phase: sweep and prune, uniform grid or brute force.
+    SetBroadPhase(BroadPhaseKind),
     /// Substeps (soft) or slices (classic) per step.
     SetSubsteps(u32),
     SetSleeping(bool),

@@ -55,6 +55,7 @@ impl Simulation {
             gravity: DVec3::ZERO,
             integrator: setup.world.settings.integrator,
             pipeline: setup.world.settings.pipeline,
+            broad_phase: setup.world.settings.broad_phase,
             substeps: setup.world.settings.solver.substeps,
             sleeping: setup.world.settings.sleep.enabled,
             restitution: Material::default().restitution,
@@ -108,6 +109,10 @@ impl Simulation {
             }
             Command::SetPipeline(pipeline) => {
                 self.settings.pipeline = pipeline;
+                self.apply_world_settings();
+            }
+            Command::SetBroadPhase(kind) => {
+                self.settings.broad_phase = kind;
                 self.apply_world_settings();
             }
             Command::SetSubsteps(substeps) => {
@@ -166,6 +171,7 @@ impl Simulation {
             camera: self.camera,
             bodies,
             shapes: self.shapes.clone(),
+            broad_phase_boxes: broad_phase_boxes(&self.world),
             lines: contact_lines(&self.world),
             counters: self.counters(),
             history: self.history.iter().copied().collect(),
@@ -181,6 +187,7 @@ impl Simulation {
         let world = &mut self.world.settings;
         world.integrator = self.settings.integrator;
         world.pipeline = self.settings.pipeline;
+        world.broad_phase = self.settings.broad_phase;
         world.solver.substeps = self.settings.substeps;
         world.classic.substeps = self.settings.substeps;
         world.sleep.enabled = self.settings.sleeping;
@@ -438,6 +445,16 @@ impl RateMeter {
             };
         }
     }
+}
+
+/// The broad-phase boxes of the awake bodies.
+fn broad_phase_boxes(world: &World) -> Vec<(Vec3, Vec3)> {
+    world
+        .broad_phase_proxies()
+        .iter()
+        .filter(|proxy| proxy.active)
+        .map(|proxy| (proxy.aabb.min.as_vec3(), proxy.aabb.max.as_vec3()))
+        .collect()
 }
 
 /// Length of a drawn contact normal, m.

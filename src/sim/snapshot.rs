@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use glam::{Quat, Vec3};
 
-use crate::physics::{Integrator, Pipeline, Shape};
+use crate::physics::{BroadPhaseKind, Integrator, Pipeline, Shape};
 use crate::sim::scenes::CameraHint;
 
 /// Position of the shape's own origin and its orientation: what a mesh needs.
@@ -106,6 +106,7 @@ pub struct SimSettings {
     pub gravity: glam::DVec3,
     pub integrator: Integrator,
     pub pipeline: Pipeline,
+    pub broad_phase: BroadPhaseKind,
     pub substeps: u32,
     pub sleeping: bool,
     pub restitution: f64,
@@ -120,6 +121,8 @@ pub struct Snapshot {
     pub camera: CameraHint,
     pub bodies: Vec<BodyState>,
     pub shapes: ShapeTable,
+    /// Broad-phase boxes (min, max) of the bodies awake in the last step.
+    pub broad_phase_boxes: Vec<(Vec3, Vec3)>,
     /// Contact points (small crosses) and normals of the last step.
     pub lines: Vec<LineSegment>,
     pub counters: Counters,

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::physics::{Integrator, Pipeline};
+use crate::physics::{BroadPhaseKind, Integrator, Pipeline};
 use crate::render::Overlays;
 use crate::sim::{Command, Snapshot, SpawnKind, scene_names};
 use crate::ui::plots;
@@ -29,6 +29,7 @@ pub struct Panel {
     time_scale: f64,
     integrator: Integrator,
     pipeline: Pipeline,
+    broad_phase: BroadPhaseKind,
     substeps: u32,
     sleeping: bool,
     synced_generation: Option<u64>,
@@ -47,6 +48,7 @@ impl Default for Panel {
             time_scale: 1.0,
             integrator: Integrator::default(),
             pipeline: Pipeline::default(),
+            broad_phase: BroadPhaseKind::default(),
             substeps: 8,
             sleeping: true,
             synced_generation: None,
@@ -108,6 +110,7 @@ impl Panel {
         self.time_scale = s.time_scale;
         self.integrator = s.integrator;
         self.pipeline = s.pipeline;
+        self.broad_phase = s.broad_phase;
         self.substeps = s.substeps;
         self.sleeping = s.sleeping;
         self.synced_generation = Some(snapshot.world_generation);
@@ -173,6 +176,20 @@ impl Panel {
                     {
                         self.pipeline = pipeline;
                         out.push(Command::SetPipeline(pipeline));
+                    }
+                }
+            });
+        egui::ComboBox::from_label("broad phase")
+            .selected_text(broad_phase_name(self.broad_phase))
+            .show_ui(ui, |ui| {
+                for kind in BROAD_PHASE_CHOICES {
+                    let selected = self.broad_phase == kind;
+                    if ui
+                        .selectable_label(selected, broad_phase_name(kind))
+                        .clicked()
+                    {
+                        self.broad_phase = kind;
+                        out.push(Command::SetBroadPhase(kind));
                     }
                 }
             });
@@ -243,6 +260,7 @@ impl Panel {
             ui.checkbox(&mut o.aabbs, "AABBs");
             ui.checkbox(&mut o.velocities, "velocities");
             ui.checkbox(&mut o.contacts, "contacts");
+            ui.checkbox(&mut o.broad_phase, "broad phase");
             ui.checkbox(&mut o.sleep_tint, "sleeping colour");
         });
     }
@@ -319,5 +337,20 @@ fn pipeline_name(pipeline: Pipeline) -> &'static str {
     match pipeline {
         Pipeline::Soft => "soft (substepped solver)",
         Pipeline::Classic => "classic (the report's)",
+    }
+}
+
+/// The broad phases the panel offers; the grid's cells are 1 m, about a typical body.
+const BROAD_PHASE_CHOICES: [BroadPhaseKind; 3] = [
+    BroadPhaseKind::SweepAndPrune,
+    BroadPhaseKind::UniformGrid { cell_size: 1.0 },
+    BroadPhaseKind::BruteForce,
+];
+
+fn broad_phase_name(kind: BroadPhaseKind) -> &'static str {
+    match kind {
+        BroadPhaseKind::SweepAndPrune => "sweep and prune",
+        BroadPhaseKind::UniformGrid { .. } => "uniform grid (1 m cells)",
+        BroadPhaseKind::BruteForce => "brute force (n²)",
     }
 }

@@ -1,18 +1,22 @@
-//! Which body is under the cursor. Until the engine has a ray-cast query, a body is hit where
-//! the ray enters both its bounding box and its bounding sphere (the intersection of two
-//! convex bounds, tight enough for boxes, balls and pins). Swap `pick` for the engine's
-//! query when it exists.
+//! Which body is under the cursor: the engine's exact ray cast (`ray_cast_shape`) against the
+//! bodies drawn at their interpolated poses, after a cheap test against their bounds (box and
+//! sphere) throws out most of them.
 
-use glam::Vec3;
+use glam::{DMat3, DQuat, Vec3};
 
+use crate::physics::PosedShape;
+use crate::physics::query::ray_cast_shape;
 use crate::render::Ray;
 use crate::sim::Snapshot;
 use crate::sim::snapshot::BodyPose;
 
+/// How far a pick reaches, m.
+const PICK_RANGE: f64 = 1e4;
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pick {
     pub body: usize,
-    /// Where the ray enters the body's bounds, world space.
+    /// Where the ray meets the body's surface, world space.
     pub point: Vec3,
     /// Distance along the ray to `point`.
     pub distance: f32,
@@ -31,11 +35,19 @@ pub fn pick(ray: &Ray, snapshot: &Snapshot, poses: &[BodyPose]) -> Option<Pick> 
             let aabb = ray_box(ray, body.aabb.0 + shift, body.aabb.1 + shift)?;
             let sphere = ray_sphere(ray, pose.position, body.bounding_radius)?;
             let enter = aabb.0.max(sphere.0).max(0.0);
-            let exit = aabb.1.min(sphere.1);
-            (enter <= exit).then(|| Pick {
+            if enter > aabb.1.min(sphere.1) {
+                return None;
+            }
+            let shape = snapshot.shapes.shapes.get(body.shape_id as usize)?;
+            let rotation =
+                DMat3::from_quat(DQuat::from_array(pose.rotation.to_array().map(f64::from)));
+            let posed = PosedShape::new(shape, pose.position.as_dvec3(), rotation);
+            let direction = ray.direction.as_dvec3().normalize();
+            let hit = ray_cast_shape(&posed, ray.origin.as_dvec3(), direction, PICK_RANGE)?;
+            Some(Pick {
                 body: index,
-                point: ray.at(enter),
-                distance: enter,
+                point: hit.point.as_vec3(),
+                distance: hit.distance as f32,
             })
         })
         .min_by(|a, b| a.distance.total_cmp(&b.distance))
@@ -81,10 +93,11 @@ mod tests {
             direction: -Vec3::Y,
         };
         assert_eq!(pick(&down(0.35, 0.2), &snapshot, &poses).unwrap().body, 2);
-        assert_eq!(
-            pick(&down(-0.45, -0.45), &snapshot, &poses).unwrap().body,
-            1
-        );
+        // Near the cube's corner the ray meets its top face (y = 1) exactly, not its bounding
+        // sphere (which it enters at y ≈ 1.087).
+        let corner = pick(&down(-0.45, -0.45), &snapshot, &poses).unwrap();
+        assert_eq!(corner.body, 1);
+        assert!((corner.point.y - 1.0).abs() < 1e-4, "{}", corner.point);
         let hit = pick(&down(2.0, 2.0), &snapshot, &poses).unwrap();
         assert_eq!(hit.body, 0);
         assert!((hit.point.y - 0.0).abs() < 1e-4);
