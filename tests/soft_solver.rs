@@ -35,8 +35,13 @@ fn ground(up: DVec3, restitution: f64, friction: f64) -> RigidBody {
     )
 }
 
-/// Contacts of every body against the half-space of body 0 and between sphere pairs.
-fn contacts(bodies: &[RigidBody], up: DVec3, warm: &[(u64, WarmImpulse)]) -> Vec<ContactInput> {
+/// Contacts of every body against the half-space of body 0 and between sphere pairs, each
+/// with the key that finds its impulse again next step.
+fn contacts(
+    bodies: &[RigidBody],
+    up: DVec3,
+    warm: &[(u64, WarmImpulse)],
+) -> Vec<(u64, ContactInput)> {
     let mut out = Vec::new();
     let mut push = |a: usize, b: usize, point: DVec3, normal: DVec3, separation: f64, key: u64| {
         if separation < MARGIN {
@@ -45,15 +50,15 @@ fn contacts(bodies: &[RigidBody], up: DVec3, warm: &[(u64, WarmImpulse)]) -> Vec
                 .find(|(k, _)| *k == key)
                 .map(|(_, w)| *w)
                 .unwrap_or_default();
-            out.push(ContactInput {
+            let contact = ContactInput {
                 a,
                 b,
                 point,
                 normal,
                 separation,
-                key,
                 warm_impulse,
-            });
+            };
+            out.push((key, contact));
         }
     };
     for (i, body) in bodies.iter().enumerate().skip(1) {
@@ -127,7 +132,10 @@ impl Sim {
     }
 
     fn step(&mut self, dt: f64) {
-        let contacts = contacts(&self.bodies, self.up, &self.warm);
+        let (keys, contacts): (Vec<u64>, Vec<ContactInput>) =
+            contacts(&self.bodies, self.up, &self.warm)
+                .into_iter()
+                .unzip();
         let ctx = StepContext {
             forces: &self.forces,
             integrator: Integrator::Midpoint,
@@ -135,7 +143,7 @@ impl Sim {
             dt,
         };
         let impulses = soft_solver::step(&mut self.bodies, &contacts, &ctx);
-        self.warm = contacts.iter().map(|c| c.key).zip(impulses).collect();
+        self.warm = keys.into_iter().zip(impulses).collect();
     }
 }
 

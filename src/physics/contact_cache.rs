@@ -32,7 +32,6 @@ impl ContactCache {
                 point: c.position,
                 normal: c.normal,
                 separation: c.separation,
-                key: (u64::from(c.feature.on_a) << 32) | u64::from(c.feature.on_b),
                 warm_impulse: self.lookup(&(m.body_a, m.body_b, c.feature)),
             })
             .collect()

@@ -8,7 +8,7 @@
 use glam::DVec3;
 
 use crate::physics::aabb::Aabb;
-use crate::physics::body::{BodyId, Motion, RigidBody};
+use crate::physics::body::{Motion, RigidBody};
 use crate::physics::broad_phase::{BodyPair, Proxy};
 use crate::physics::contact::ContactManifold;
 use crate::physics::manifold::contact_manifold;
@@ -84,9 +84,4 @@ fn manifold_of_pair(bodies: &[RigidBody], pair: &BodyPair, dt: f64) -> Option<Co
     }
     let margin = SPECULATIVE_DISTANCE + motion_bound(a, dt) + motion_bound(b, dt);
     contact_manifold(a, pair.a, b, pair.b, margin)
-}
-
-/// True when the manifold involves `body`.
-pub fn touches(manifold: &ContactManifold, body: BodyId) -> bool {
-    manifold.body_a == body || manifold.body_b == body
 }

@@ -192,10 +192,6 @@ impl Pose {
     pub fn transform_point(&self, p: DVec3) -> DVec3 {
         self.rotation * p + self.translation
     }
-
-    pub fn inverse_transform_point(&self, p: DVec3) -> DVec3 {
-        self.rotation.inverse() * (p - self.translation)
-    }
 }
 
 fn check_extent(field: &'static str, value: f64) -> Result<(), ShapeError> {

@@ -36,8 +36,6 @@ pub struct ContactInput {
     pub normal: DVec3,
     /// Distance between the surfaces along the normal; negative when penetrating.
     pub separation: f64,
-    /// Identifies the contact feature pair across steps, for warm starting.
-    pub key: u64,
     /// Normal and friction impulses this point ended the last step with.
     pub warm_impulse: WarmImpulse,
 }
