@@ -203,9 +203,12 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
     /// Contacts exist when the shapes are within the margin; polyhedra may also report a
-    /// slightly farther pair, since a separating axis only bounds the distance from below,
-    /// but the deepest contact is never farther than the true distance. Each contact's points lie on
-    /// their shapes, no contact is deeper than the penetration depth, at most 4.
+    /// slightly farther pair, since a separating axis only bounds the distance from below.
+    /// The deepest contact is never farther than the true distance, give or take the
+    /// preference for face axes (0.1% of the smaller shape's size): a face axis kept over a
+    /// slightly better edge axis clips the incident face, whose lowest clipped point can sit
+    /// a little above the true closest pair. Each contact's points lie on their shapes, no
+    /// contact is deeper than the penetration depth, at most 4.
     #[test]
     fn random_pairs_give_consistent_contacts(sa in shape(), sb in shape(), pa in pose(), pb in pose()) {
         let (a, b) = (at(&sa, pa.0, pa.1), at(&sb, pb.0, pb.1));
@@ -213,9 +216,10 @@ proptest! {
         let contacts = generate_contacts(&a, &b, margin);
         let distance = gjk_distance(&a, &b).distance;
         let scale = sa.bounding_radius().max(sb.bounding_radius());
+        let preference = 1e-3 * sa.bounding_radius().min(sb.bounding_radius());
         prop_assert!(contacts.len() <= 4);
         if let Some(deepest) = contacts.first() {
-            prop_assert!(deepest.separation <= distance.max(0.0) + 1e-9 * scale, "deepest {:?} distance {distance}", deepest);
+            prop_assert!(deepest.separation <= distance.max(0.0) + preference + 1e-9 * scale, "deepest {:?} distance {distance}", deepest);
         }
         if distance > margin + 1e-9 * scale {
             return Ok(());
@@ -229,8 +233,7 @@ proptest! {
             prop_assert!((c.normal.length() - 1.0).abs() < 1e-9);
             prop_assert!(c.separation <= margin + 1e-9 * scale);
             // No contact claims to be deeper than the true penetration depth, give or take
-            // the preference for face axes (0.1% of the smaller shape's size).
-            let preference = 1e-3 * sa.bounding_radius().min(sb.bounding_radius());
+            // the preference for face axes.
             prop_assert!(c.separation >= deepest.min(0.0) - preference - 1e-6 * scale, "{} < {}", c.separation, deepest);
             // Each point is on (or inside) its shape.
             let on_a = rigid::physics::SupportMap::support(&a, c.normal);
