@@ -5,11 +5,12 @@
 //! their support function; the primitives use closed forms that give the same numbers faster.
 
 use glam::{DMat3, DVec3};
+use serde::{Deserialize, Serialize};
 
 use crate::physics::body::RigidBody;
 use crate::physics::shape::Shape;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Aabb {
     pub min: DVec3,
     pub max: DVec3,

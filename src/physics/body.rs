@@ -10,7 +10,7 @@ use crate::physics::mass::MassProperties;
 use crate::physics::shape::{Shape, ShapeError};
 
 /// Index of a body in its world.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct BodyId(pub u32);
 
 impl BodyId {
@@ -53,7 +53,7 @@ pub enum Motion {
     Isolated,
 }
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RigidBody {
     pub name: String,
     pub shape: Shape,

@@ -1,18 +1,19 @@
 //! Concave bodies as a set of convex parts, each placed by a pose in the body's shape frame.
 
 use glam::{DMat3, DVec3};
+use serde::{Deserialize, Serialize};
 
 use crate::physics::mass::{MassProperties, parallel_axis_term};
 use crate::physics::shape::{Pose, Shape, ShapeError};
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CompoundPart {
     pub pose: Pose,
     /// A convex shape: compounds do not nest.
     pub shape: Shape,
 }
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Compound {
     pub parts: Vec<CompoundPart>,
 }

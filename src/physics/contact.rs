@@ -8,13 +8,16 @@
 //!   `position - normal * separation / 2` and the point on B is `position + normal * separation / 2`.
 
 use glam::DVec3;
+use serde::{Deserialize, Serialize};
 
 use crate::physics::body::BodyId;
 
 /// Identifies which pair of features (vertex, edge, face) produced a contact, so that a solver
 /// can match contacts of consecutive steps and reuse their impulses (warm starting).
 /// The numbers are only meaningful for the same pair of shapes; equal ids mean "same contact".
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
+)]
 pub struct FeatureId {
     pub on_a: u32,
     pub on_b: u32,

@@ -1,6 +1,8 @@
 //! Warm starting: the impulses each contact ended the last step with, found again this step
 //! by (body pair, feature pair), so that the solver starts from last step's answer.
 
+use serde::{Deserialize, Serialize};
+
 use crate::physics::body::BodyId;
 use crate::physics::contact::{ContactManifold, FeatureId};
 use crate::physics::soft_solver::{ContactInput, WarmImpulse};
@@ -8,7 +10,7 @@ use crate::physics::soft_solver::{ContactInput, WarmImpulse};
 type Key = (BodyId, BodyId, FeatureId);
 
 /// Sorted by key, so lookups are binary searches and iteration order is deterministic.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactCache {
     entries: Vec<(Key, WarmImpulse)>,
 }
@@ -48,6 +50,14 @@ impl ContactCache {
         self.entries.extend(keys.zip(impulses.iter().copied()));
         self.entries.sort_by_key(|entry| entry.0);
         self.entries.dedup_by(|x, y| x.0 == y.0);
+    }
+
+    /// The highest body index any entry refers to.
+    pub fn max_body_index(&self) -> Option<usize> {
+        self.entries
+            .iter()
+            .map(|((a, b, _), _)| a.index().max(b.index()))
+            .max()
     }
 
     pub fn clear(&mut self) {

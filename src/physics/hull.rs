@@ -16,6 +16,7 @@
 use std::collections::{HashMap, HashSet};
 
 use glam::DVec3;
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::physics::mass::{self, MassProperties};
@@ -52,7 +53,7 @@ impl Tolerance {
 }
 
 /// A face of a hull: a convex polygon with its outward plane `normal · x = offset`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HullFace {
     /// Indices into `ConvexHull::vertices`, counter-clockwise seen from outside.
     pub vertices: Vec<u32>,
@@ -61,7 +62,7 @@ pub struct HullFace {
 }
 
 /// A closed convex polyhedron. Coplanar triangles are merged, so a box has 6 quad faces.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ConvexHull {
     pub vertices: Vec<DVec3>,
     pub faces: Vec<HullFace>,
@@ -79,6 +80,8 @@ pub enum HullError {
     Degenerate(&'static str),
     #[error("face {0} has fewer than 3 vertices or refers to a missing vertex")]
     InvalidFace(usize),
+    #[error("edge {0} refers to a missing vertex or joins a vertex to itself")]
+    InvalidEdge(usize),
     #[error("extent {0} m lies outside [{MIN_EXTENT}, {MAX_EXTENT}] m")]
     ExtentOutOfRange(f64),
     #[error("face {0}: normal not unit length, or its plane misses a vertex of the face")]
@@ -145,7 +148,7 @@ impl ConvexHull {
     }
 
     /// Checks what a hand-built hull can get wrong: finite vertices, at least 4 of them, faces
-    /// that index real vertices, extents within [MIN_EXTENT, MAX_EXTENT], face planes that
+    /// and edges that index real vertices, extents within [MIN_EXTENT, MAX_EXTENT], face planes that
     /// match their vertices, convexity and a positive volume.
     pub fn validate(&self) -> Result<(), HullError> {
         if let Some(index) = self.vertices.iter().position(|v| !v.is_finite()) {
@@ -159,6 +162,11 @@ impl ConvexHull {
             let dangling = face.vertices.iter().any(|&v| v as usize >= vertex_count);
             if face.vertices.len() < 3 || dangling {
                 return Err(HullError::InvalidFace(index));
+            }
+        }
+        for (index, &[i, j]) in self.edges.iter().enumerate() {
+            if i == j || i as usize >= vertex_count || j as usize >= vertex_count {
+                return Err(HullError::InvalidEdge(index));
             }
         }
         let (min, max) = bounds(&self.vertices);

@@ -7,6 +7,7 @@
 use std::sync::Arc;
 
 use glam::{DQuat, DVec3};
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::physics::compound::Compound;
@@ -17,7 +18,7 @@ use crate::physics::hull::ConvexHull;
 pub const MIN_EXTENT: f64 = 1e-4;
 pub const MAX_EXTENT: f64 = 1e4;
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Shape {
     Sphere {
         radius: f64,
@@ -170,7 +171,7 @@ impl Shape {
 }
 
 /// A rigid transform: rotation then translation.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Pose {
     pub translation: DVec3,
     pub rotation: DQuat,

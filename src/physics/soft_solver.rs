@@ -41,7 +41,7 @@ pub struct ContactInput {
 }
 
 /// Accumulated impulses per substep, kept across steps for warm starting.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct WarmImpulse {
     pub normal: f64,
     pub tangent: [f64; 2],

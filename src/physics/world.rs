@@ -30,6 +30,7 @@ use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::integrate::{self, Integrator};
 use crate::physics::islands::{self, SleepSettings};
 use crate::physics::narrow_phase;
+use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
 use crate::physics::soft_solver::{self, SoftSolverSettings, StepContext};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -113,7 +114,7 @@ impl std::fmt::Debug for BroadPhaseState {
 }
 
 /// A body whose state stopped being finite, and when. The body is isolated the same step.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Fault {
     pub body: BodyId,
     pub name: String,
@@ -138,6 +139,46 @@ impl World {
             broad_phase: BroadPhaseState::new(settings.broad_phase),
             ..World::default()
         }
+    }
+
+    /// The whole world as plain data (see `snapshot`).
+    pub fn to_snapshot(&self) -> WorldSnapshot {
+        WorldSnapshot {
+            format: SNAPSHOT_FORMAT,
+            time: self.time,
+            steps: self.steps,
+            settings: self.settings,
+            forces: self.forces.clone(),
+            forces_seen: self.forces_seen.clone(),
+            bodies: self.bodies.clone(),
+            proxies: self.proxies.clone(),
+            stale_proxies: self.stale_proxies.clone(),
+            contact_cache: self.contact_cache.clone(),
+            awake: self.awake,
+            faults: self.faults.clone(),
+        }
+    }
+
+    /// A world that continues exactly where the snapshot's world was. The snapshot is checked
+    /// first; `file` names it in errors.
+    pub fn from_snapshot(snapshot: WorldSnapshot, file: &str) -> Result<World, SnapshotError> {
+        snapshot.check(file)?;
+        Ok(World {
+            bodies: snapshot.bodies,
+            broad_phase: BroadPhaseState::new(snapshot.settings.broad_phase),
+            proxies: snapshot.proxies,
+            stale_proxies: snapshot.stale_proxies,
+            manifolds: Vec::new(),
+            contact_cache: snapshot.contact_cache,
+            forces_seen: snapshot.forces_seen,
+            awake: snapshot.awake,
+            classic_report: ClassicReport::default(),
+            forces: snapshot.forces,
+            settings: snapshot.settings,
+            time: snapshot.time,
+            steps: snapshot.steps,
+            faults: snapshot.faults,
+        })
     }
 
     /// Adds a body; the description is validated first.

@@ -25,7 +25,7 @@ use crate::physics::aabb::Aabb;
 use crate::physics::body::{BodyId, RigidBody};
 
 /// What the broad phase knows about one body; proxies are indexed like the world's bodies.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Proxy {
     pub aabb: Aabb,
     /// A dynamic, awake body. Pairs of two inactive proxies are skipped.

@@ -1,0 +1,167 @@
+//! Saving and restoring a whole world: the bodies, the forces and settings, and the state the
+//! next step reads (warm-start impulses, cached broad-phase boxes, sleep timers, the force list
+//! the last step saw). A world restored from a snapshot continues bit for bit as if it had
+//! never stopped; the broad phase's own bookkeeping is only a cache and is rebuilt.
+//!
+//! Snapshots are RON text. Loading one checks it the way scene files are checked: a file that
+//! does not parse, or whose bodies are not finite, not valid shapes or refer to bodies that do
+//! not exist, gives an error naming the file and the body instead of a world that panics later.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::physics::body::{Motion, RigidBody};
+use crate::physics::broad_phase::Proxy;
+use crate::physics::contact_cache::ContactCache;
+use crate::physics::forces::EnvironmentForce;
+use crate::physics::world::{Fault, WorldSettings};
+
+/// Raised when the layout of `WorldSnapshot` changes.
+pub const SNAPSHOT_FORMAT: u32 = 1;
+
+/// Everything a `World` is made of, as plain data.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorldSnapshot {
+    pub format: u32,
+    pub time: f64,
+    pub steps: u64,
+    pub settings: WorldSettings,
+    pub forces: Vec<EnvironmentForce>,
+    /// The force list the last step saw: an edit since then wakes every body.
+    pub forces_seen: Vec<EnvironmentForce>,
+    pub bodies: Vec<RigidBody>,
+    /// Broad-phase boxes kept between steps, by body, and which must be recomputed.
+    pub proxies: Vec<Proxy>,
+    pub stale_proxies: Vec<bool>,
+    pub contact_cache: ContactCache,
+    pub awake: usize,
+    pub faults: Vec<Fault>,
+}
+
+#[derive(Debug, Error, PartialEq)]
+pub enum SnapshotError {
+    #[error("{file}: {message}")]
+    Unreadable { file: String, message: String },
+    #[error("{file}: format {found}, this build reads format {SNAPSHOT_FORMAT}")]
+    Format { file: String, found: u32 },
+    #[error("{file}: body {index} ('{name}'): {message}")]
+    Body {
+        file: String,
+        index: usize,
+        name: String,
+        message: String,
+    },
+    #[error("{file}: {message}")]
+    Inconsistent { file: String, message: String },
+}
+
+impl WorldSnapshot {
+    pub fn to_ron(&self) -> String {
+        let config = ron::ser::PrettyConfig::new().depth_limit(3);
+        ron::ser::to_string_pretty(self, config).expect("a snapshot is plain data")
+    }
+
+    /// Parses and checks snapshot text; `file` names it in errors.
+    pub fn from_ron(text: &str, file: &str) -> Result<WorldSnapshot, SnapshotError> {
+        let snapshot: WorldSnapshot =
+            ron::from_str(text).map_err(|e| SnapshotError::Unreadable {
+                file: file.to_string(),
+                message: e.to_string(),
+            })?;
+        snapshot.check(file)?;
+        Ok(snapshot)
+    }
+
+    pub fn save(&self, path: &Path) -> Result<(), SnapshotError> {
+        std::fs::write(path, self.to_ron()).map_err(|e| SnapshotError::Unreadable {
+            file: path.display().to_string(),
+            message: e.to_string(),
+        })
+    }
+
+    pub fn load(path: &Path) -> Result<WorldSnapshot, SnapshotError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| SnapshotError::Unreadable {
+            file: file.clone(),
+            message: e.to_string(),
+        })?;
+        WorldSnapshot::from_ron(&text, &file)
+    }
+
+    /// What the engine relies on and a hand-edited file could break.
+    pub fn check(&self, file: &str) -> Result<(), SnapshotError> {
+        if self.format != SNAPSHOT_FORMAT {
+            return Err(SnapshotError::Format {
+                file: file.to_string(),
+                found: self.format,
+            });
+        }
+        let inconsistent = |message: String| SnapshotError::Inconsistent {
+            file: file.to_string(),
+            message,
+        };
+        for (index, body) in self.bodies.iter().enumerate() {
+            check_body(body).map_err(|message| SnapshotError::Body {
+                file: file.to_string(),
+                index,
+                name: body.name.clone(),
+                message,
+            })?;
+        }
+        let count = self.bodies.len();
+        if !self.proxies.is_empty() && self.proxies.len() != count {
+            return Err(inconsistent(format!(
+                "{} broad-phase proxies for {count} bodies",
+                self.proxies.len()
+            )));
+        }
+        if self.stale_proxies.len() != self.proxies.len() {
+            return Err(inconsistent(
+                "stale_proxies and proxies differ in length".into(),
+            ));
+        }
+        if self
+            .contact_cache
+            .max_body_index()
+            .is_some_and(|i| i >= count)
+        {
+            return Err(inconsistent(
+                "the contact cache names a missing body".into(),
+            ));
+        }
+        if let Some(fault) = self.faults.iter().find(|f| f.body.index() >= count) {
+            return Err(inconsistent(format!(
+                "fault on missing body {}",
+                fault.body.0
+            )));
+        }
+        if !self.time.is_finite() {
+            return Err(inconsistent("time is not finite".into()));
+        }
+        Ok(())
+    }
+}
+
+/// A body the solver can take: a valid shape, and (unless it was isolated for going
+/// non-finite) a finite state and non-negative inverse mass.
+fn check_body(body: &RigidBody) -> Result<(), String> {
+    body.shape.validate().map_err(|e| format!("shape: {e}"))?;
+    if body.motion == Motion::Isolated {
+        return Ok(());
+    }
+    if !body.is_finite() || !body.force.is_finite() || !body.torque.is_finite() {
+        return Err("state is not finite".into());
+    }
+    let inverse_mass_ok = body.inv_mass.is_finite() && body.inv_mass >= 0.0;
+    if !inverse_mass_ok
+        || !body.inv_inertia_local.is_finite()
+        || !body.inv_inertia_world.is_finite()
+        || !body.quiet_time.is_finite()
+    {
+        return Err("mass properties are not finite and non-negative".into());
+    }
+    Ok(())
+}
