@@ -210,3 +210,76 @@ fn unwritable_output_exits_2() {
             .contains("/nonexistent/dir/out.csv")
     );
 }
+
+fn run_ok(args: &[&str]) {
+    let out = headless(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn read(path: &PathBuf) -> String {
+    std::fs::read_to_string(path).unwrap()
+}
+
+#[test]
+fn separate_processes_agree_bit_for_bit_and_resume_from_snapshots() {
+    let [whole, again, half, resumed] =
+        ["whole", "again", "half", "resumed"].map(|n| scratch(&format!("{n}.snapshot.ron")));
+    let s = |p: &PathBuf| p.to_str().unwrap().to_owned();
+    let run = ["--scene", "pachinko", "--steps"];
+    run_ok(&[&run[..], &["200", "--save-snapshot", &s(&whole)]].concat());
+    run_ok(&[&run[..], &["200", "--save-snapshot", &s(&again)]].concat());
+    assert_eq!(read(&whole), read(&again));
+    run_ok(&[&run[..], &["100", "--save-snapshot", &s(&half)]].concat());
+    let from = [
+        "--from-snapshot",
+        &s(&half),
+        "--save-snapshot",
+        &s(&resumed),
+    ];
+    run_ok(&[&run[..], &["100"], &from[..]].concat());
+    assert_eq!(read(&resumed), read(&whole));
+    assert_ne!(read(&half), read(&whole));
+}
+
+#[test]
+fn replay_in_another_process_matches_the_live_run() {
+    use glam::DVec3;
+    use rigid::sim::{Command as SimCommand, Simulation, SpawnKind};
+    let mut live = Simulation::new("falling_box").unwrap();
+    for tick in 0..180 {
+        if tick % 20 == 5 {
+            live.apply(SimCommand::Spawn {
+                kind: SpawnKind::ALL[(tick / 20) % 5],
+                position: DVec3::new(0.1 * tick as f64 / 20.0, 5.0, 0.0),
+                velocity: DVec3::ZERO,
+            });
+        }
+        if tick == 90 {
+            live.apply(SimCommand::SetGravity(DVec3::new(1.0, -5.0, 0.0)));
+        }
+        live.step();
+    }
+    let recording = scratch("live.recording.ron");
+    live.recording().save(&recording).unwrap();
+    let replayed = scratch("replayed.snapshot.ron");
+    run_ok(&[
+        "--replay",
+        recording.to_str().unwrap(),
+        "--save-snapshot",
+        replayed.to_str().unwrap(),
+    ]);
+    assert_eq!(read(&replayed), live.world().to_snapshot().to_ron());
+}
+
+#[test]
+fn bad_snapshot_file_is_a_clear_error() {
+    let path = write_scene("bad.snapshot.ron", "(format: 1, time: NaN)");
+    let out = headless(&["--from-snapshot", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("bad.snapshot.ron"), "{stderr}");
+}

@@ -3,6 +3,9 @@
 //!
 //! `headless --scene pachinko --steps 2000 --csv out.csv --every 10`
 //!
+//! A run can start from a saved world (`--from-snapshot`), save its final world
+//! (`--save-snapshot`), or replay a recording of a viewer session (`--replay`).
+//!
 //! Exit codes: 0 on success, 2 on a bad scene, bad arguments or an unwritable output file.
 
 use std::fs::File;
@@ -13,8 +16,9 @@ use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
 use glam::{DQuat, DVec3};
-use rigid::physics::{Integrator, RigidBody, World, WorldTotals};
+use rigid::physics::{Integrator, RigidBody, World, WorldSnapshot, WorldTotals};
 use rigid::scene::{self, DEFAULT_SCENE, DT_RANGE, Scene};
+use rigid::sim::{Recording, Simulation};
 
 #[derive(Parser, Debug)]
 #[command(about = "Run a scene without a window and report energy and momentum")]
@@ -40,6 +44,15 @@ struct Args {
     /// Write every K-th step (the initial and the final state are always written).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     every: u64,
+    /// Start from this saved world (see `WorldSnapshot`) instead of the scene's initial one.
+    #[arg(long)]
+    from_snapshot: Option<PathBuf>,
+    /// Save the final world to this file.
+    #[arg(long)]
+    save_snapshot: Option<PathBuf>,
+    /// Replay a recording of a viewer session to its end (ignores --scene, --steps, --dt).
+    #[arg(long, conflicts_with_all = ["from_snapshot", "csv", "json", "integrator"])]
+    replay: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -71,13 +84,23 @@ fn main() -> ExitCode {
 }
 
 fn run(args: &Args) -> Result<(), String> {
+    if let Some(path) = &args.replay {
+        return replay(args, path);
+    }
     let scene = scene::load(&args.scene).map_err(|error| error.to_string())?;
     let dt = args.dt.unwrap_or(scene.settings.dt);
     if !DT_RANGE.contains(&dt) {
         let (min, max) = DT_RANGE.into_inner();
         return Err(format!("--dt must lie in [{min}, {max}] s, got {dt}"));
     }
-    let mut world = scene.build_world().map_err(|error| error.to_string())?;
+    let mut world = match &args.from_snapshot {
+        Some(path) => {
+            let snapshot = WorldSnapshot::load(path).map_err(|error| error.to_string())?;
+            World::from_snapshot(snapshot, &path.display().to_string())
+                .map_err(|error| error.to_string())?
+        }
+        None => scene.build_world().map_err(|error| error.to_string())?,
+    };
     if let Some(integrator) = args.integrator {
         world.settings.integrator = integrator.into();
     }
@@ -95,7 +118,29 @@ fn run(args: &Args) -> Result<(), String> {
     output.finish()?;
     let wall = started.elapsed().as_secs_f64();
     print_summary(&scene, &world, dt, wall, &initial);
-    Ok(())
+    save_snapshot(args, &world)
+}
+
+/// Runs a recording through the same `Simulation` the viewer uses, to its last tick.
+fn replay(args: &Args, path: &PathBuf) -> Result<(), String> {
+    let recording = Recording::load(path)?;
+    let scene = scene::load(&recording.scene).map_err(|error| error.to_string())?;
+    let mut sim = Simulation::replaying(&recording)?;
+    let initial = sim.world().totals();
+    let started = Instant::now();
+    while sim.ticks() < recording.ticks {
+        sim.step();
+    }
+    let wall = started.elapsed().as_secs_f64();
+    print_summary(&scene, sim.world(), sim.settings().dt, wall, &initial);
+    save_snapshot(args, sim.world())
+}
+
+fn save_snapshot(args: &Args, world: &World) -> Result<(), String> {
+    match &args.save_snapshot {
+        Some(path) => world.to_snapshot().save(path).map_err(|e| e.to_string()),
+        None => Ok(()),
+    }
 }
 
 enum Format {

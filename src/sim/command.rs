@@ -1,12 +1,15 @@
 //! What the viewer can ask of the simulation. Commands are applied between two steps, in the
 //! order they were sent.
 
+use std::path::PathBuf;
+
 use glam::DVec3;
+use serde::{Deserialize, Serialize};
 
 use crate::physics::{BroadPhaseKind, Integrator, Pipeline};
 
 /// The primitive a spawn button creates.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum SpawnKind {
     Sphere,
     Box,
@@ -36,7 +39,7 @@ impl SpawnKind {
     }
 }
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Command {
     /// Stops or restarts the clock; stepping once still works while paused.
     SetPaused(bool),
@@ -75,6 +78,12 @@ pub enum Command {
         impulse: DVec3,
         point: DVec3,
     },
+    /// Writes the world, with the scene name and hidden bodies, to a file (see `SavedWorld`).
+    SaveWorld(PathBuf),
+    /// Replaces the world by one saved with `SaveWorld`.
+    LoadWorld(PathBuf),
+    /// Writes the scene and every command applied so far, for replay (see `recording`).
+    SaveRecording(PathBuf),
     /// Ends the thread.
     Quit,
 }

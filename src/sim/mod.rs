@@ -3,16 +3,21 @@
 //! never slows the physics and a slow step never blocks a frame.
 //!
 //! Reading order: `scenes` (what worlds exist) → `command` (what the user can ask) →
+//! `recording` and `saved_world` (runs and worlds kept in files) →
 //! `simulation` (the world plus its settings, stepped synchronously) → `snapshot` (what is
 //! published) → `thread` (the fixed-dt loop around a `Simulation`).
 
 pub mod command;
+pub mod recording;
+pub mod saved_world;
 pub mod scenes;
 pub mod simulation;
 pub mod snapshot;
 pub mod thread;
 
 pub use command::{Command, SpawnKind};
+pub use recording::{RecordedCommand, Recording};
+pub use saved_world::SavedWorld;
 pub use scenes::{CameraHint, DEFAULT_SCENE, SceneSetup, scene_names};
 pub use simulation::Simulation;
 pub use snapshot::{BodyState, Counters, HistorySample, LineSegment, ShapeTable, Snapshot};

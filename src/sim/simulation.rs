@@ -3,6 +3,7 @@
 //! it directly.
 
 use std::collections::VecDeque;
+use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -10,6 +11,8 @@ use glam::{DQuat, DVec3, Vec3};
 
 use crate::physics::{BodyDesc, BodyId, EnvironmentForce, Material, RigidBody, Shape, World};
 use crate::sim::command::{Command, SpawnKind};
+use crate::sim::recording::{RecordedCommand, Recording};
+use crate::sim::saved_world::SavedWorld;
 use crate::sim::scenes::{self, CameraHint};
 use crate::sim::snapshot::{
     BodyPose, BodyState, Counters, HistorySample, LineSegment, ShapeTable, SimSettings, Snapshot,
@@ -29,6 +32,14 @@ const DT_RANGE: (f64, f64) = (1e-4, 0.05);
 const TIME_SCALE_RANGE: (f64, f64) = (0.0, 10.0);
 
 pub struct Simulation {
+    /// The scene the simulation started with: where a replay starts.
+    first_scene: String,
+    /// Fixed steps taken since the simulation started, across resets and scene changes.
+    ticks: u64,
+    /// Every command applied so far, with its tick, for `recording`.
+    log: Vec<RecordedCommand>,
+    /// Commands still to apply when replaying a recording, in tick order.
+    script: VecDeque<RecordedCommand>,
     scene: String,
     camera: CameraHint,
     world: World,
@@ -62,6 +73,10 @@ impl Simulation {
             friction: Material::default().friction,
         };
         let mut sim = Simulation {
+            first_scene: scene.to_string(),
+            ticks: 0,
+            log: Vec::new(),
+            script: VecDeque::new(),
             scene: String::new(),
             camera: setup.camera,
             world: World::default(),
@@ -79,19 +94,51 @@ impl Simulation {
         Ok(sim)
     }
 
+    /// A simulation that will apply the recording's commands at their ticks as it steps.
+    pub fn replaying(recording: &Recording) -> Result<Simulation, String> {
+        let mut sim = Simulation::new(&recording.scene)?;
+        sim.script = recording.commands.iter().cloned().collect();
+        Ok(sim)
+    }
+
     pub fn world(&self) -> &World {
         &self.world
+    }
+
+    /// Fixed steps taken since the simulation started.
+    pub fn ticks(&self) -> u64 {
+        self.ticks
+    }
+
+    /// The run so far: the first scene and every command applied, with its tick.
+    pub fn recording(&self) -> Recording {
+        Recording {
+            scene: self.first_scene.clone(),
+            ticks: self.ticks,
+            commands: self.log.clone(),
+        }
     }
 
     pub fn settings(&self) -> &SimSettings {
         &self.settings
     }
 
-    /// Applies one command; returns false for `Quit`.
+    /// Applies one command; returns false for `Quit`. Commands that change the run are
+    /// logged for `recording`; saving and quitting are not.
     pub fn apply(&mut self, command: Command) -> bool {
+        let changes_run = !matches!(
+            command,
+            Command::Quit | Command::SaveWorld(_) | Command::SaveRecording(_)
+        );
+        if changes_run {
+            self.log.push(RecordedCommand {
+                tick: self.ticks,
+                command: command.clone(),
+            });
+        }
         match command {
             Command::SetPaused(paused) => self.settings.paused = paused,
-            Command::StepOnce => self.step(),
+            Command::StepOnce => self.advance(),
             Command::Reset => self.load(&self.scene.clone()),
             Command::LoadScene(name) => self.load(&name),
             Command::SetGravity(g) => self.set_gravity(g),
@@ -133,13 +180,27 @@ impl Simulation {
                 impulse,
                 point,
             } => self.apply_impulse(body, impulse, point),
+            Command::SaveWorld(path) => self.save_world(&path),
+            Command::LoadWorld(path) => self.load_world(&path),
+            Command::SaveRecording(path) => {
+                self.message = self.recording().save(&path).err();
+            }
             Command::Quit => return false,
         }
         true
     }
 
-    /// One fixed step of `settings.dt`.
+    /// One fixed step of `settings.dt`, after the replayed commands that are due.
     pub fn step(&mut self) {
+        while self.script.front().is_some_and(|c| c.tick <= self.ticks) {
+            let due = self.script.pop_front().expect("checked above");
+            self.apply(due.command);
+        }
+        self.advance();
+    }
+
+    fn advance(&mut self) {
+        self.ticks += 1;
         self.previous = self.world.bodies().iter().map(pose_of).collect();
         let started = Instant::now();
         self.world.step(self.settings.dt);
@@ -216,6 +277,49 @@ impl Simulation {
     fn load(&mut self, name: &str) {
         match scenes::build(name) {
             Ok(setup) => self.install(name, setup),
+            Err(e) => self.message = Some(e),
+        }
+    }
+
+    fn save_world(&mut self, path: &Path) {
+        let saved = SavedWorld {
+            scene: self.scene.clone(),
+            dt: self.settings.dt,
+            hidden: self.hidden.clone(),
+            world: self.world.to_snapshot(),
+        };
+        self.message = saved.save(path).err();
+    }
+
+    /// Replaces the world by a saved one; the camera comes from its scene when that loads.
+    fn load_world(&mut self, path: &Path) {
+        let loaded = SavedWorld::load(path).and_then(|saved| {
+            let file = path.display().to_string();
+            let world = World::from_snapshot(saved.world, &file).map_err(|e| e.to_string())?;
+            let camera = scenes::build(&saved.scene).map_or(self.camera, |setup| setup.camera);
+            let dt = saved.dt.clamp(DT_RANGE.0, DT_RANGE.1);
+            Ok((
+                saved.scene,
+                dt,
+                scenes::SceneSetup {
+                    world,
+                    camera,
+                    hidden: saved.hidden,
+                },
+            ))
+        });
+        match loaded {
+            Ok((scene, dt, setup)) => {
+                // The saved world runs on with its own settings, not the viewer's.
+                let saved = setup.world.settings;
+                self.settings.dt = dt;
+                self.settings.integrator = saved.integrator;
+                self.settings.pipeline = saved.pipeline;
+                self.settings.broad_phase = saved.broad_phase;
+                self.settings.substeps = saved.solver.substeps;
+                self.settings.sleeping = saved.sleep.enabled;
+                self.install(&scene, setup);
+            }
             Err(e) => self.message = Some(e),
         }
     }

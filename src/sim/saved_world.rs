@@ -1,0 +1,39 @@
+//! What the viewer saves and loads: the world's snapshot plus what only the viewer knows
+//! about it (the scene it came from, which bodies the scene hides).
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::physics::WorldSnapshot;
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SavedWorld {
+    pub scene: String,
+    /// The fixed step the world was running at, s.
+    pub dt: f64,
+    /// By body index; bodies past the end are drawn.
+    pub hidden: Vec<bool>,
+    pub world: WorldSnapshot,
+}
+
+impl SavedWorld {
+    pub fn save(&self, path: &Path) -> Result<(), String> {
+        let config = ron::ser::PrettyConfig::new().depth_limit(4);
+        let text = ron::ser::to_string_pretty(self, config).expect("a saved world is plain data");
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// Reads and checks a saved world (see `WorldSnapshot::check`).
+    pub fn load(path: &Path) -> Result<SavedWorld, String> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: {e}"))?;
+        let saved: SavedWorld = ron::from_str(&text).map_err(|e| format!("{file}: {e}"))?;
+        saved.world.check(&file).map_err(|e| e.to_string())?;
+        if !(saved.dt.is_finite() && saved.dt > 0.0) {
+            return Err(format!("{file}: dt must be positive, got {}", saved.dt));
+        }
+        Ok(saved)
+    }
+}
