@@ -10,7 +10,7 @@
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -122,7 +122,7 @@ fn run(args: &Args) -> Result<(), String> {
 }
 
 /// Runs a recording through the same `Simulation` the viewer uses, to its last tick.
-fn replay(args: &Args, path: &PathBuf) -> Result<(), String> {
+fn replay(args: &Args, path: &Path) -> Result<(), String> {
     let recording = Recording::load(path)?;
     let scene = scene::load(&recording.scene).map_err(|error| error.to_string())?;
     let mut sim = Simulation::replaying(&recording)?;
