@@ -23,6 +23,9 @@ struct Cli {
     /// Save the last frame, panel included, to this PNG before exiting.
     #[arg(long)]
     screenshot: Option<PathBuf>,
+    /// Replay a recording saved from the panel ("Save recording").
+    #[arg(long, conflicts_with = "scene")]
+    replay: Option<PathBuf>,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -80,6 +83,7 @@ fn main() -> ExitCode {
             scene: cli.scene,
             exit_after: cli.exit_after,
             screenshot: cli.screenshot,
+            replay: cli.replay,
         }),
     };
     match result {

@@ -54,6 +54,9 @@ pub struct Simulation {
     rate: RateMeter,
     /// The last command that could not be applied, shown by the UI.
     message: Option<String>,
+    /// Set when a step or command panicked: the world is kept for inspection but no longer
+    /// stepped until a reset or another scene replaces it.
+    failure: Option<String>,
 }
 
 impl Simulation {
@@ -89,6 +92,7 @@ impl Simulation {
             history: VecDeque::new(),
             rate: RateMeter::default(),
             message: None,
+            failure: None,
         };
         sim.install(scene, setup);
         Ok(sim)
@@ -190,6 +194,19 @@ impl Simulation {
         true
     }
 
+    /// Stops stepping after a panic; the message stays on screen until the world is replaced.
+    pub fn fail(&mut self, cause: &str) {
+        let text = format!("simulation stopped: {cause}; Reset or pick a scene to go on");
+        self.failure = Some(text.clone());
+        self.message = Some(text);
+        self.settings.paused = true;
+    }
+
+    /// Why the simulation stopped, if a step or command panicked.
+    pub fn failure(&self) -> Option<&str> {
+        self.failure.as_deref()
+    }
+
     /// One fixed step of `settings.dt`, after the replayed commands that are due.
     pub fn step(&mut self) {
         while self.script.front().is_some_and(|c| c.tick <= self.ticks) {
@@ -200,6 +217,9 @@ impl Simulation {
     }
 
     fn advance(&mut self) {
+        if self.failure.is_some() {
+            return;
+        }
         self.ticks += 1;
         self.previous = self.world.bodies().iter().map(pose_of).collect();
         let started = Instant::now();
@@ -347,6 +367,10 @@ impl Simulation {
         }
         self.history.clear();
         self.message = None;
+        // Recovering from a failure: run again, as before the panic paused the clock.
+        if self.failure.take().is_some() {
+            self.settings.paused = false;
+        }
     }
 
     /// Registers body `index` in the shape table and gives it a previous pose.

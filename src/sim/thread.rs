@@ -2,6 +2,7 @@
 //! accumulator that is spent in steps of exactly `dt`; a snapshot is published after each
 //! batch. The loop sleeps on the command queue, so commands are applied at once.
 
+use std::panic::{self, AssertUnwindSafe};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -31,7 +32,11 @@ pub struct SimHandle {
 impl SimHandle {
     /// Builds the scene (errors are returned here, not on the thread) and starts stepping.
     pub fn spawn(scene: &str) -> Result<SimHandle, String> {
-        let sim = Simulation::new(scene)?;
+        SimHandle::start(Simulation::new(scene)?)
+    }
+
+    /// Starts stepping a simulation on its own thread.
+    pub fn start(sim: Simulation) -> Result<SimHandle, String> {
         let (commands, inbox) = mpsc::channel();
         let latest: SnapshotSlot =
             Arc::new(Mutex::new(Some(Arc::new(sim.snapshot(Instant::now())))));
@@ -73,7 +78,7 @@ fn run(mut sim: Simulation, inbox: Receiver<Command>, slot: SnapshotSlot) {
         let mut changed = false;
         match inbox.recv_timeout(wait_for_next_step(&sim, accumulator)) {
             Ok(command) => {
-                if !apply_all(&mut sim, command, &inbox) {
+                if guarded(&mut sim, |sim| apply_all(sim, command, &inbox)) == Some(false) {
                     return;
                 }
                 changed = true;
@@ -91,7 +96,10 @@ fn run(mut sim: Simulation, inbox: Receiver<Command>, slot: SnapshotSlot) {
         last = now;
         let mut steps = 0;
         while accumulator >= settings.dt && steps < MAX_STEPS_PER_BATCH {
-            sim.step();
+            if guarded(&mut sim, Simulation::step).is_none() {
+                changed = true;
+                break;
+            }
             accumulator -= settings.dt;
             steps += 1;
         }
@@ -100,6 +108,23 @@ fn run(mut sim: Simulation, inbox: Receiver<Command>, slot: SnapshotSlot) {
         }
         if steps > 0 || changed {
             publish(&sim, &slot);
+        }
+    }
+}
+
+/// Runs `work` on the simulation; a panic inside it stops the simulation with the panic's
+/// message (shown by the viewer) instead of ending the thread, and gives `None`.
+fn guarded<T>(sim: &mut Simulation, work: impl FnOnce(&mut Simulation) -> T) -> Option<T> {
+    match panic::catch_unwind(AssertUnwindSafe(|| work(sim))) {
+        Ok(value) => Some(value),
+        Err(payload) => {
+            let cause = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic".to_string());
+            sim.fail(&cause);
+            None
         }
     }
 }
@@ -180,6 +205,31 @@ mod tests {
         assert_eq!(still.counters.steps, paused.counters.steps);
         handle.send(Command::StepOnce);
         wait_for(&handle, |s| s.counters.steps == paused.counters.steps + 1);
+    }
+
+    #[test]
+    fn a_panic_in_a_step_stops_the_simulation_until_reset() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        sim.step();
+        let result = guarded(&mut sim, |_: &mut Simulation| -> () {
+            panic!("solver blew up")
+        });
+        assert!(result.is_none());
+        let failure = sim.failure().expect("the failure is kept").to_string();
+        assert!(failure.contains("solver blew up"), "{failure}");
+        let shown = sim.snapshot(Instant::now());
+        assert_eq!(shown.message.as_deref(), Some(failure.as_str()));
+        assert!(shown.settings.paused);
+        // Stepping is refused while failed; a reset brings the scene back.
+        let ticks = sim.ticks();
+        sim.step();
+        sim.apply(Command::StepOnce);
+        assert_eq!(sim.ticks(), ticks);
+        sim.apply(Command::Reset);
+        assert!(sim.failure().is_none());
+        assert!(!sim.settings().paused);
+        sim.step();
+        assert_eq!(sim.ticks(), ticks + 1);
     }
 
     #[test]

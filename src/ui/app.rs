@@ -14,7 +14,7 @@ use winit::window::{Window, WindowId};
 
 use crate::render::{FrameInput, OrbitCamera, Ray, Viewport};
 use crate::sim::snapshot::BodyPose;
-use crate::sim::{CameraHint, Command, SimHandle, Snapshot};
+use crate::sim::{CameraHint, Command, Recording, SimHandle, Simulation, Snapshot};
 use crate::ui::display::{Display, UiFrame};
 use crate::ui::drag::Drag;
 use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel};
@@ -26,11 +26,17 @@ pub struct AppOptions {
     pub exit_after: Option<f64>,
     /// Save the last frame here before closing.
     pub screenshot: Option<PathBuf>,
+    /// Replay this recording (see `sim::recording`) instead of starting `scene` fresh.
+    pub replay: Option<PathBuf>,
 }
 
 /// Opens the viewer window and runs until it is closed (or `exit_after` passes).
 pub fn run(options: AppOptions) -> Result<(), String> {
-    let sim = SimHandle::spawn(&options.scene)?;
+    let simulation = match &options.replay {
+        Some(path) => Simulation::replaying(&Recording::load(path)?)?,
+        None => Simulation::new(&options.scene)?,
+    };
+    let sim = SimHandle::start(simulation)?;
     let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e}"))?;
     // Redraw continuously: the simulation moves whether or not there is input.
     event_loop.set_control_flow(ControlFlow::Poll);

@@ -1,6 +1,8 @@
 //! The control panel on the left: scene, time, spawning, world settings, overlays, counters
 //! and plots. It turns widget changes into simulation commands and never touches the world.
 
+use std::path::PathBuf;
+
 use glam::DVec3;
 
 use crate::physics::{BroadPhaseKind, Integrator, Pipeline};
@@ -9,6 +11,11 @@ use crate::sim::{Command, Snapshot, SpawnKind, scene_names};
 use crate::ui::plots;
 
 pub const PANEL_WIDTH: f32 = 290.0;
+
+/// Where the panel's buttons save (and load) the world and the session's recording, relative
+/// to the directory the viewer was started in.
+const SAVED_WORLD_FILE: &str = "rigid-world.ron";
+const RECORDING_FILE: &str = "rigid-recording.ron";
 
 /// Rates measured on the render side.
 #[derive(Clone, Copy, Debug, Default)]
@@ -69,6 +76,10 @@ impl Panel {
         let mut commands = Vec::new();
         egui::ScrollArea::vertical().show(ui, |ui| {
             ui.heading("rigid");
+            // Errors first: a stopped simulation must be noticed.
+            if let Some(message) = &snapshot.message {
+                ui.colored_label(egui::Color32::LIGHT_RED, message);
+            }
             self.scene_section(ui, snapshot, &mut commands);
             ui.separator();
             self.time_section(ui, &mut commands);
@@ -90,9 +101,6 @@ impl Panel {
             egui::CollapsingHeader::new("Deepest overlap (mm)")
                 .default_open(false)
                 .show(ui, |ui| plots::penetration(ui, &snapshot.history));
-            if let Some(message) = &snapshot.message {
-                ui.colored_label(egui::Color32::LIGHT_RED, message);
-            }
         });
         commands
     }
@@ -138,6 +146,31 @@ impl Panel {
             }
             if ui.button("Reset").clicked() {
                 out.push(Command::Reset);
+            }
+        });
+        ui.horizontal(|ui| {
+            let world = PathBuf::from(SAVED_WORLD_FILE);
+            if ui
+                .button("Save world")
+                .on_hover_text(SAVED_WORLD_FILE)
+                .clicked()
+            {
+                out.push(Command::SaveWorld(world.clone()));
+            }
+            if ui
+                .button("Load world")
+                .on_hover_text(SAVED_WORLD_FILE)
+                .clicked()
+            {
+                out.push(Command::LoadWorld(world));
+            }
+            let recording = "replay with: rigid --replay rigid-recording.ron";
+            if ui
+                .button("Save recording")
+                .on_hover_text(recording)
+                .clicked()
+            {
+                out.push(Command::SaveRecording(PathBuf::from(RECORDING_FILE)));
             }
         });
     }
