@@ -13,6 +13,7 @@ pub mod saved_world;
 pub mod scenes;
 pub mod simulation;
 pub mod snapshot;
+pub mod spawn;
 pub mod thread;
 
 pub use command::{Command, SpawnKind};

@@ -7,9 +7,10 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use glam::{DQuat, DVec3, Vec3};
+use glam::{DVec3, Vec3};
 
-use crate::physics::{BodyDesc, BodyId, EnvironmentForce, Material, RigidBody, Shape, World};
+use crate::physics::{Aabb, BodyId, EnvironmentForce, Material, RigidBody, World};
+use crate::scene::MAX_BODIES;
 use crate::sim::command::{Command, SpawnKind};
 use crate::sim::recording::{RecordedCommand, Recording};
 use crate::sim::saved_world::SavedWorld;
@@ -17,6 +18,7 @@ use crate::sim::scenes::{self, CameraHint};
 use crate::sim::snapshot::{
     BodyPose, BodyState, Counters, HistorySample, LineSegment, ShapeTable, SimSettings, Snapshot,
 };
+use crate::sim::spawn;
 
 /// Simulated seconds between two plotted samples, and how many are kept (20 s of history).
 const HISTORY_INTERVAL: f64 = 1.0 / 30.0;
@@ -54,6 +56,9 @@ pub struct Simulation {
     rate: RateMeter,
     /// The last command that could not be applied, shown by the UI.
     message: Option<String>,
+    /// Bounding boxes of the bodies for placing spawns, kept while nothing moves so that a
+    /// burst of spawns between two steps costs O(n) each, not a box computation per body.
+    spawn_boxes: Option<Vec<Aabb>>,
     /// Set when a step or command panicked: the world is kept for inspection but no longer
     /// stepped until a reset or another scene replaces it.
     failure: Option<String>,
@@ -92,6 +97,7 @@ impl Simulation {
             history: VecDeque::new(),
             rate: RateMeter::default(),
             message: None,
+            spawn_boxes: None,
             failure: None,
         };
         sim.install(scene, setup);
@@ -220,6 +226,7 @@ impl Simulation {
         if self.failure.is_some() {
             return;
         }
+        self.spawn_boxes = None;
         self.ticks += 1;
         self.previous = self.world.bodies().iter().map(pose_of).collect();
         let started = Instant::now();
@@ -348,6 +355,7 @@ impl Simulation {
         self.scene = name.to_string();
         self.camera = setup.camera;
         self.world = setup.world;
+        self.spawn_boxes = None;
         self.hidden = setup.hidden;
         self.apply_world_settings();
         self.settings.gravity = gravity_of(&self.world);
@@ -409,22 +417,28 @@ impl Simulation {
     }
 
     fn spawn(&mut self, kind: SpawnKind, position: DVec3, velocity: DVec3) {
+        if self.world.bodies().len() >= MAX_BODIES {
+            self.message = Some(format!(
+                "spawn refused: the world holds {MAX_BODIES} bodies"
+            ));
+            return;
+        }
         let material = Material {
             restitution: self.settings.restitution,
             friction: self.settings.friction,
             ..Material::default()
         };
-        // A small tilt and spin so that spawned bodies do not land perfectly flat.
-        let seed = self.world.bodies().len() as u64;
-        let desc = BodyDesc::dynamic(spawn_shape(kind, seed))
-            .named(kind.name())
-            .at(position)
-            .rotated(DQuat::from_rotation_z(0.3) * DQuat::from_rotation_x(0.2))
-            .with_velocity(velocity)
-            .with_angular_velocity(DVec3::new(0.5, 1.0, 0.0))
-            .with_material(material);
-        match self.world.add_body(desc) {
-            Ok(id) => self.track_body(id.index()),
+        let desc = spawn::body(kind, self.world.bodies().len() as u64, material);
+        let boxes = self
+            .spawn_boxes
+            .get_or_insert_with(|| spawn::body_boxes(&self.world));
+        let spot = spawn::free_spot(boxes, &desc, position);
+        let placed = spawn::box_at(&desc, spot);
+        match self.world.add_body(desc.at(spot).with_velocity(velocity)) {
+            Ok(id) => {
+                boxes.push(placed);
+                self.track_body(id.index());
+            }
             Err(e) => self.message = Some(e.to_string()),
         }
     }
@@ -459,40 +473,6 @@ impl Simulation {
             self.history.pop_front();
         }
     }
-}
-
-fn spawn_shape(kind: SpawnKind, seed: u64) -> Shape {
-    match kind {
-        SpawnKind::Sphere => Shape::sphere(0.3),
-        SpawnKind::Box => Shape::cuboid(DVec3::splat(0.3)),
-        SpawnKind::Capsule => Shape::capsule(0.3, 0.2),
-        SpawnKind::Cylinder => Shape::cylinder(0.25, 0.3),
-        SpawnKind::Hull => random_hull(seed),
-    }
-}
-
-/// The hull of 14 points at random directions and radii 0.2 to 0.35 m. Points spread over a
-/// sphere never all lie in one plane, so the hull always exists.
-fn random_hull(seed: u64) -> Shape {
-    let mut state = seed
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    let mut next = move || {
-        // A 64-bit linear congruential generator; the top 53 bits give a uniform [0, 1).
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let points: Vec<DVec3> = (0..14)
-        .map(|_| {
-            let z = 2.0 * next() - 1.0;
-            let angle = std::f64::consts::TAU * next();
-            let ring = (1.0 - z * z).sqrt();
-            DVec3::new(ring * angle.cos(), z, ring * angle.sin()) * (0.2 + 0.15 * next())
-        })
-        .collect();
-    Shape::hull(&points).unwrap_or(Shape::sphere(0.3))
 }
 
 /// The first gravity field of the world, or zero.
@@ -619,6 +599,36 @@ fn contact_lines(world: &World) -> Vec<LineSegment> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::Shape;
+
+    #[test]
+    fn absurd_pushes_never_spread_to_other_bodies() {
+        let mut sim = Simulation::new("stack").unwrap();
+        let top = sim.world().bodies().len() - 1;
+        let point = sim.world().bodies()[top].position;
+        for impulse in [1e300, f64::MAX, f64::INFINITY, f64::NAN] {
+            sim.apply(Command::ApplyImpulse {
+                body: top,
+                impulse: DVec3::new(impulse, impulse, 0.0),
+                point,
+            });
+            for _ in 0..5 {
+                sim.step();
+            }
+        }
+        let world = sim.world();
+        // The pushed body flew off or was isolated; every other body is finite and in place.
+        for (i, body) in world.bodies().iter().enumerate().filter(|(i, _)| *i != top) {
+            assert!(body.is_finite(), "body {i}");
+            assert!(
+                body.position.y.abs() < 20.0,
+                "body {i} at {}",
+                body.position
+            );
+        }
+        let pushed = &world.bodies()[top];
+        assert!(pushed.is_finite() || world.faults().iter().any(|f| f.body.index() == top));
+    }
 
     #[test]
     fn spawned_hulls_are_valid_convex_hulls() {

@@ -1,32 +1,20 @@
-//! Sweep and prune along one axis. The body order by box minimum is kept between calls and
-//! repaired by insertion sort, which costs O(n + swaps): nearly linear when bodies move a
-//! little each step. The sweep then only tests boxes whose intervals on the axis overlap.
+//! Sweep and prune along one axis: boxes sorted by their minimum on the axis, then each box
+//! is tested only against the boxes whose intervals on that axis start before it ends.
+//!
+//! The axis is the one along which the box centres spread the most, chosen again at every
+//! call: a column of bodies must be swept along its height, a floor of them along its width,
+//! or the sweep degenerates into all n² tests. The order is kept between calls and re-sorted
+//! with a run-adaptive stable sort, which costs O(n) when bodies moved little.
 
 use crate::physics::broad_phase::{BodyPair, BroadPhase, Proxy, wants_pair};
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct SweepAndPrune {
-    /// 0, 1 or 2: x, y or z. Best along the axis where bodies are most spread out.
-    axis: usize,
     /// Body indices sorted by `aabb.min[axis]` as of the last call.
     order: Vec<u32>,
 }
 
-impl Default for SweepAndPrune {
-    fn default() -> Self {
-        SweepAndPrune::along(0)
-    }
-}
-
 impl SweepAndPrune {
-    /// Sweeps along x (0), y (1) or z (2); larger values wrap.
-    pub fn along(axis: usize) -> Self {
-        SweepAndPrune {
-            axis: axis % 3,
-            order: Vec::new(),
-        }
-    }
-
     /// Keeps the previous order for bodies that still exist and appends new ones.
     fn track_body_count(&mut self, count: usize) {
         if self.order.len() != count {
@@ -35,29 +23,31 @@ impl SweepAndPrune {
             self.order.extend(known as u32..count as u32);
         }
     }
+}
 
-    fn insertion_sort(&mut self, proxies: &[Proxy]) {
-        let key = |i: u32| proxies[i as usize].aabb.min[self.axis];
-        for sorted_end in 1..self.order.len() {
-            let mut k = sorted_end;
-            while k > 0 && key(self.order[k - 1]) > key(self.order[k]) {
-                self.order.swap(k - 1, k);
-                k -= 1;
-            }
-        }
-    }
+/// 0, 1 or 2: the axis with the largest variance of the box centres.
+fn widest_axis(proxies: &[Proxy]) -> usize {
+    let n = proxies.len().max(1) as f64;
+    let centers = proxies.iter().map(|p| p.aabb.min + p.aabb.max);
+    let mean = centers.clone().fold(glam::DVec3::ZERO, |sum, c| sum + c) / n;
+    let variance = centers.fold(glam::DVec3::ZERO, |sum, c| sum + (c - mean) * (c - mean));
+    (0..3)
+        .max_by(|&i, &j| variance[i].total_cmp(&variance[j]))
+        .unwrap_or(0)
 }
 
 impl BroadPhase for SweepAndPrune {
     fn find_pairs(&mut self, proxies: &[Proxy]) -> Vec<BodyPair> {
         self.track_body_count(proxies.len());
-        self.insertion_sort(proxies);
+        let axis = widest_axis(proxies);
+        let start = |i: u32| proxies[i as usize].aabb.min[axis];
+        self.order.sort_by(|&i, &j| start(i).total_cmp(&start(j)));
         let mut pairs = Vec::new();
         for (k, &i) in self.order.iter().enumerate() {
             let p = &proxies[i as usize];
             for &j in &self.order[k + 1..] {
                 let q = &proxies[j as usize];
-                if q.aabb.min[self.axis] > p.aabb.max[self.axis] {
+                if q.aabb.min[axis] > p.aabb.max[axis] {
                     break;
                 }
                 if wants_pair(p, q) {
