@@ -5,6 +5,7 @@
 //! own thread; `render` and `ui` (feature `viewer`) draw it and let a user drive it.
 
 pub mod bench;
+pub mod input_file;
 pub mod physics;
 #[cfg(feature = "viewer")]
 pub mod render;

@@ -283,3 +283,13 @@ fn bad_snapshot_file_is_a_clear_error() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("bad.snapshot.ron"), "{stderr}");
 }
+
+#[test]
+fn a_device_or_directory_as_input_is_refused() {
+    for path in ["/dev/zero", "/"] {
+        let out = headless(&["--scene", path, "--steps", "1"]);
+        assert_eq!(out.status.code(), Some(2), "{path}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains("not a regular file"), "{path}: {stderr}");
+    }
+}

@@ -122,6 +122,20 @@ fn bad_snapshots_are_refused_with_the_file_and_body_named() {
         "{error}"
     );
 
+    let error = edited(|s| s.settings.solver.substeps = 4_000_000_000).unwrap_err();
+    assert!(error.to_string().contains("solver.substeps"), "{error}");
+
+    let error = edited(|s| s.settings.classic.theta = -1.0).unwrap_err();
+    assert!(error.to_string().contains("classic.theta"), "{error}");
+
+    let error = edited(|s| {
+        s.forces[0] = EnvironmentForce::LinearDrag {
+            coefficient: f64::NAN,
+        }
+    })
+    .unwrap_err();
+    assert!(error.to_string().contains("force"), "{error}");
+
     let error = edited(|s| s.format = 99).unwrap_err();
     assert!(
         matches!(error, SnapshotError::Format { found: 99, .. }),

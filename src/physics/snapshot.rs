@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::physics::body::{Motion, RigidBody};
-use crate::physics::broad_phase::Proxy;
+use crate::physics::broad_phase::{BroadPhaseKind, Proxy};
 use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::EnvironmentForce;
 use crate::physics::world::{Fault, WorldSettings};
@@ -84,7 +84,7 @@ impl WorldSnapshot {
 
     pub fn load(path: &Path) -> Result<WorldSnapshot, SnapshotError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SnapshotError::Unreadable {
+        let text = crate::input_file::read_text(path).map_err(|e| SnapshotError::Unreadable {
             file: file.clone(),
             message: e.to_string(),
         })?;
@@ -141,7 +141,77 @@ impl WorldSnapshot {
         if !self.time.is_finite() {
             return Err(inconsistent("time is not finite".into()));
         }
+        check_settings(&self.settings).map_err(|m| inconsistent(format!("settings: {m}")))?;
+        if !self.forces.iter().all(force_is_finite) {
+            return Err(inconsistent("a force is not finite".into()));
+        }
         Ok(())
+    }
+}
+
+/// Most substeps, slices, iterations and events per step a snapshot may ask for: beyond
+/// these a single step takes seconds, which a hand-edited file should not be able to cause.
+const MAX_SUBSTEPS: u32 = 64;
+const MAX_ITERATIONS: u32 = 1000;
+
+/// Settings the solvers can run with: counts in range, rates and speeds finite and
+/// non-negative (positive where they divide).
+fn check_settings(settings: &WorldSettings) -> Result<(), String> {
+    let soft = &settings.solver;
+    let classic = &settings.classic;
+    let sleep = &settings.sleep;
+    let counts = [
+        ("solver.substeps", soft.substeps, MAX_SUBSTEPS),
+        ("classic.substeps", classic.substeps, MAX_SUBSTEPS),
+        ("classic.iterations", classic.iterations, MAX_ITERATIONS),
+        ("classic.max_events", classic.max_events, MAX_ITERATIONS),
+    ];
+    for (field, value, max) in counts {
+        if !(1..=max).contains(&value) {
+            return Err(format!("{field} must lie in [1, {max}], got {value}"));
+        }
+    }
+    let cell_size = match settings.broad_phase {
+        BroadPhaseKind::UniformGrid { cell_size } => cell_size,
+        _ => 1.0,
+    };
+    let positive = [
+        ("solver.contact_hertz", soft.contact_hertz),
+        ("classic.theta", classic.theta),
+        ("broad_phase.cell_size", cell_size),
+    ];
+    for (field, value) in positive {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(format!("{field} must be positive, got {value}"));
+        }
+    }
+    let non_negative = [
+        ("solver.damping_ratio", soft.damping_ratio),
+        ("solver.max_push_out", soft.max_push_out),
+        ("solver.restitution_threshold", soft.restitution_threshold),
+        ("classic.resting_speed", classic.resting_speed),
+        ("sleep.sleep_speed", sleep.sleep_speed),
+        ("sleep.time_to_sleep", sleep.time_to_sleep),
+    ];
+    for (field, value) in non_negative {
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(format!(
+                "{field} must be finite and non-negative, got {value}"
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn force_is_finite(force: &EnvironmentForce) -> bool {
+    match *force {
+        EnvironmentForce::Gravity { acceleration } => acceleration.is_finite(),
+        EnvironmentForce::LinearDrag { coefficient }
+        | EnvironmentForce::QuadraticDrag { coefficient } => coefficient.is_finite(),
+        EnvironmentForce::Wind {
+            velocity,
+            coefficient,
+        } => velocity.is_finite() && coefficient.is_finite(),
     }
 }
 

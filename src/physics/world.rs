@@ -113,6 +113,16 @@ impl std::fmt::Debug for BroadPhaseState {
     }
 }
 
+/// Longest step `World::step` takes, s: far beyond any stable contact step, short enough
+/// that a typo (a dt in milliseconds) is caught.
+pub const MAX_STEP: f64 = 1.0;
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum StepError {
+    #[error("dt must be finite and at most {MAX_STEP} s either way, got {0}")]
+    BadDt(f64),
+}
+
 /// A body whose state stopped being finite, and when. The body is isolated the same step.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Fault {
@@ -218,8 +228,23 @@ impl World {
         self.steps
     }
 
-    /// Advances the world by `dt` seconds; a negative `dt` runs it backwards.
+    /// Advances the world by `dt` seconds; a negative `dt` runs it backwards. A `dt` that
+    /// `try_step` refuses leaves the world as it is.
     pub fn step(&mut self, dt: f64) {
+        let _ = self.try_step(dt);
+    }
+
+    /// `step`, or an error for a `dt` that is not finite or longer than `MAX_STEP` either way
+    /// (one NaN step would otherwise isolate every body).
+    pub fn try_step(&mut self, dt: f64) -> Result<(), StepError> {
+        if !(dt.is_finite() && dt.abs() <= MAX_STEP) {
+            return Err(StepError::BadDt(dt));
+        }
+        self.advance(dt);
+        Ok(())
+    }
+
+    fn advance(&mut self, dt: f64) {
         // A non-finite user force or state is caught before any contact can spread it.
         self.isolate_non_finite();
         if dt >= 0.0 {

@@ -70,7 +70,7 @@ pub const DEFAULT_SCENE: &str = "falling_box";
 pub fn load_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
     let path = path.as_ref();
     let origin = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|error| SceneError::Read {
+    let text = crate::input_file::read_text(path).map_err(|error| SceneError::Read {
         file: origin.clone(),
         message: error.to_string(),
     })?;

@@ -57,7 +57,7 @@ impl Recording {
 
     pub fn load(path: &Path) -> Result<Recording, String> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: {e}"))?;
+        let text = crate::input_file::read_text(path).map_err(|e| format!("{file}: {e}"))?;
         Recording::from_ron(&text, &file)
     }
 }

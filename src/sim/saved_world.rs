@@ -28,7 +28,7 @@ impl SavedWorld {
     /// Reads and checks a saved world (see `WorldSnapshot::check`).
     pub fn load(path: &Path) -> Result<SavedWorld, String> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: {e}"))?;
+        let text = crate::input_file::read_text(path).map_err(|e| format!("{file}: {e}"))?;
         let saved: SavedWorld = ron::from_str(&text).map_err(|e| format!("{file}: {e}"))?;
         saved.world.check(&file).map_err(|e| e.to_string())?;
         if !(saved.dt.is_finite() && saved.dt > 0.0) {

@@ -2,6 +2,8 @@
 //! these tests do not depend on quickhull).
 #![allow(dead_code)]
 
+pub mod garble;
+
 use std::sync::Arc;
 
 use glam::{DMat3, DQuat, DVec3};
