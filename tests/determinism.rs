@@ -169,3 +169,23 @@ fn bad_recordings_and_saved_worlds_are_reported() {
         "the running world is kept"
     );
 }
+
+#[test]
+fn the_number_of_threads_does_not_change_a_bit() {
+    let run = |scene: &str, threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| world_text(&drive(scene, &session(), 200)))
+    };
+    for scene in ["pachinko", "rain"] {
+        let single = run(scene, 1);
+        for threads in [2, 3, 8] {
+            assert!(
+                run(scene, threads) == single,
+                "{scene} with {threads} threads"
+            );
+        }
+    }
+}

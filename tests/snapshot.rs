@@ -110,6 +110,9 @@ fn bad_snapshots_are_refused_with_the_file_and_body_named() {
     let error = edited(|s| s.bodies[1].shape = Shape::sphere(-1.0)).unwrap_err();
     assert!(error.to_string().contains("body 1"), "{error}");
 
+    let error = edited(|s| s.bodies[2].orientation.x_axis.x = 1e308).unwrap_err();
+    assert!(error.to_string().contains("not a rotation"), "{error}");
+
     let error = edited(|s| s.bodies[1].inv_mass = -2.0).unwrap_err();
     assert!(error.to_string().contains("mass properties"), "{error}");
 

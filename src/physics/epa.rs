@@ -189,10 +189,17 @@ pub fn epa(a: &impl SupportMap, b: &impl SupportMap, simplex: &Simplex) -> Penet
         .fold(0.0, f64::max);
     let tolerance = RELATIVE_TOLERANCE * scale.max(f64::MIN_POSITIVE);
     let mut iterations = 0;
-    let mut best = polytope.nearest_face().expect("a tetrahedron has faces");
+    // Every face of a degenerate start (shapes squashed to nothing, non-finite supports) can
+    // be a sliver without a normal: then the simplex is treated as flat.
+    let Some(mut best) = polytope.nearest_face() else {
+        let span = polytope.points[..3].to_vec();
+        return flat_penetration(a, b, &span, simplex.witnesses());
+    };
+    // The best face so far, kept by value: points are never removed, so its vertex indices
+    // stay valid even when expanding leaves no usable face.
+    let mut face = polytope.faces[best];
     while iterations < EPA_MAX_ITERATIONS {
         iterations += 1;
-        let face = polytope.faces[best];
         let support = SupportPoint::of_cores(a, b, face.normal);
         if support.w.dot(face.normal) - face.distance <= tolerance {
             break;
@@ -202,11 +209,8 @@ pub fn epa(a: &impl SupportMap, b: &impl SupportMap, simplex: &Simplex) -> Penet
             Some(next) => best = next,
             None => break,
         }
-        if polytope.faces[best].distance.is_infinite() {
-            break;
-        }
+        face = polytope.faces[best];
     }
-    let face = polytope.faces[best];
     witness(&polytope, &face, iterations)
 }
 

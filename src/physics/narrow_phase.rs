@@ -6,6 +6,7 @@
 //! more, which is what keeps fast bodies from tunnelling.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use crate::physics::aabb::Aabb;
 use crate::physics::body::{Motion, RigidBody};
@@ -69,10 +70,16 @@ pub fn update_proxies(
     }
 }
 
-/// The manifolds of all candidate pairs whose surfaces are, or may come, within reach.
+/// Pairs handed to one rayon task: enough work to outweigh the task's overhead.
+const PAIRS_PER_TASK: usize = 64;
+
+/// The manifolds of all candidate pairs whose surfaces are, or may come, within reach, in
+/// pair order. Pairs are independent, so they are computed on all threads; the collected
+/// order, and so every later stage, is the same for any number of threads.
 pub fn find_manifolds(bodies: &[RigidBody], pairs: &[BodyPair], dt: f64) -> Vec<ContactManifold> {
     pairs
-        .iter()
+        .par_iter()
+        .with_min_len(PAIRS_PER_TASK)
         .filter_map(|pair| manifold_of_pair(bodies, pair, dt))
         .collect()
 }

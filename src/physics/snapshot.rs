@@ -9,6 +9,7 @@
 
 use std::path::Path;
 
+use glam::DMat3;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -203,6 +204,19 @@ fn check_settings(settings: &WorldSettings) -> Result<(), String> {
     Ok(())
 }
 
+/// How far RᵀR may stray from the identity: the integrators keep it within 1e-15, so this
+/// only catches hand edits.
+const ORTHONORMAL_TOLERANCE: f64 = 1e-6;
+
+fn is_rotation(r: DMat3) -> bool {
+    let error = r.transpose() * r - DMat3::IDENTITY;
+    let worst = [error.x_axis, error.y_axis, error.z_axis]
+        .iter()
+        .map(|c| c.abs().max_element())
+        .fold(0.0, f64::max);
+    worst <= ORTHONORMAL_TOLERANCE && r.determinant() > 0.0
+}
+
 fn force_is_finite(force: &EnvironmentForce) -> bool {
     match *force {
         EnvironmentForce::Gravity { acceleration } => acceleration.is_finite(),
@@ -224,6 +238,9 @@ fn check_body(body: &RigidBody) -> Result<(), String> {
     }
     if !body.is_finite() || !body.force.is_finite() || !body.torque.is_finite() {
         return Err("state is not finite".into());
+    }
+    if !is_rotation(body.orientation) {
+        return Err("orientation is not a rotation matrix".into());
     }
     let inverse_mass_ok = body.inv_mass.is_finite() && body.inv_mass >= 0.0;
     if !inverse_mass_ok
