@@ -293,3 +293,30 @@ fn a_device_or_directory_as_input_is_refused() {
         assert!(stderr.contains("not a regular file"), "{path}: {stderr}");
     }
 }
+
+#[test]
+fn a_world_saved_by_the_viewer_continues_headless_at_its_own_dt() {
+    use rigid::sim::{Command as SimCommand, Simulation};
+    let saved = scratch("viewer.world.ron");
+    let mut live = Simulation::new("pachinko").unwrap();
+    for _ in 0..60 {
+        live.step();
+    }
+    live.apply(SimCommand::SaveWorld(saved.clone()));
+    for _ in 0..60 {
+        live.step();
+    }
+    let out = scratch("continued.snapshot.ron");
+    let from = saved.to_str().unwrap();
+    run_ok(&[
+        "--scene",
+        "pachinko",
+        "--from-snapshot",
+        from,
+        "--steps",
+        "60",
+        "--save-snapshot",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(read(&out), live.world().to_snapshot().to_ron());
+}

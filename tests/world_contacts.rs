@@ -1,7 +1,7 @@
 //! The whole step (broad phase → narrow phase → soft solver) on scenes with analytic answers.
 
 use glam::{DQuat, DVec3};
-use rigid::physics::{BodyDesc, BodyId, EnvironmentForce, Material, Shape, World};
+use rigid::physics::{BodyDesc, BodyId, EnvironmentForce, Material, RemoveError, Shape, World};
 
 fn world() -> World {
     let mut world = World::default();
@@ -239,6 +239,65 @@ fn sleeping_bodies_wake_when_pushed_or_when_gravity_changes() {
     let x = world.body(block).position.x;
     run(&mut world, 0.5);
     assert!(world.body(block).position.x < x - 0.1);
+}
+
+#[test]
+fn removing_a_support_wakes_what_rests_on_it_and_it_falls() {
+    let mut world = world();
+    add_ground(&mut world);
+    let half = 0.25;
+    let boxes: Vec<BodyId> = (0..3)
+        .map(|i| {
+            let at = DVec3::Y * (half + 2.0 * half * i as f64);
+            world
+                .add_body(BodyDesc::dynamic(Shape::cuboid(DVec3::splat(half))).at(at))
+                .unwrap()
+        })
+        .collect();
+    run(&mut world, 3.0);
+    assert!(
+        boxes.iter().all(|&b| world.body(b).sleeping),
+        "the stack sleeps"
+    );
+    let before = world.body(boxes[1]).position.y;
+
+    world.remove_body(boxes[0]).unwrap();
+    assert!(
+        !world.body(boxes[1]).sleeping,
+        "the box that rested on it woke"
+    );
+    run(&mut world, 2.0);
+    // The two boxes left dropped by one box height, onto the ground, and settled there.
+    let dropped = before - world.body(boxes[1]).position.y;
+    assert!((dropped - 2.0 * half).abs() < 0.01, "dropped {dropped} m");
+    assert!((world.body(boxes[2]).position.y - 3.0 * half).abs() < 0.01);
+    // The removed box stayed where it was, touched nothing and counts for nothing.
+    assert!((world.body(boxes[0]).position.y - half).abs() < 0.01);
+    assert!(
+        world
+            .contacts()
+            .iter()
+            .all(|m| m.body_a != boxes[0] && m.body_b != boxes[0])
+    );
+    let expected_mass = 2.0 * world.body(boxes[1]).mass();
+    let weight = world.totals().potential_energy / 9.81;
+    let centre = (world.body(boxes[1]).position.y + world.body(boxes[2]).position.y) / 2.0;
+    assert!((weight - expected_mass * centre).abs() < 1e-6 * weight.abs());
+}
+
+#[test]
+fn removing_twice_or_an_unknown_body_is_an_error() {
+    let mut world = world();
+    let ground = add_ground(&mut world);
+    world.remove_body(ground).unwrap();
+    assert_eq!(
+        world.remove_body(ground),
+        Err(RemoveError::AlreadyRemoved(ground.0))
+    );
+    assert_eq!(
+        world.remove_body(BodyId(7)),
+        Err(RemoveError::NoSuchBody(7))
+    );
 }
 
 #[test]

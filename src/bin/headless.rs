@@ -18,7 +18,7 @@ use clap::{Parser, ValueEnum};
 use glam::{DQuat, DVec3};
 use rigid::physics::{Integrator, RigidBody, World, WorldSnapshot, WorldTotals};
 use rigid::scene::{self, DEFAULT_SCENE, DT_RANGE, Scene};
-use rigid::sim::{Recording, Simulation};
+use rigid::sim::{Recording, SavedWorld, Simulation};
 
 #[derive(Parser, Debug)]
 #[command(about = "Run a scene without a window and report energy and momentum")]
@@ -44,7 +44,8 @@ struct Args {
     /// Write every K-th step (the initial and the final state are always written).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     every: u64,
-    /// Start from this saved world (see `WorldSnapshot`) instead of the scene's initial one.
+    /// Start from this saved world (from --save-snapshot or the viewer's "Save world") instead
+    /// of the scene's initial one.
     #[arg(long)]
     from_snapshot: Option<PathBuf>,
     /// Save the final world to this file.
@@ -88,18 +89,22 @@ fn run(args: &Args) -> Result<(), String> {
         return replay(args, path);
     }
     let scene = scene::load(&args.scene).map_err(|error| error.to_string())?;
-    let dt = args.dt.unwrap_or(scene.settings.dt);
+    let start = match &args.from_snapshot {
+        Some(path) => Some(load_saved(path)?),
+        None => None,
+    };
+    let saved_dt = start.as_ref().and_then(|(_, dt)| *dt);
+    let dt = args.dt.or(saved_dt).unwrap_or(scene.settings.dt);
     if !DT_RANGE.contains(&dt) {
         let (min, max) = DT_RANGE.into_inner();
         return Err(format!("--dt must lie in [{min}, {max}] s, got {dt}"));
     }
-    let mut world = match &args.from_snapshot {
-        Some(path) => {
-            let snapshot = WorldSnapshot::load(path).map_err(|error| error.to_string())?;
+    let mut world = match (start, &args.from_snapshot) {
+        (Some((snapshot, _)), Some(path)) => {
             World::from_snapshot(snapshot, &path.display().to_string())
                 .map_err(|error| error.to_string())?
         }
-        None => scene.build_world().map_err(|error| error.to_string())?,
+        _ => scene.build_world().map_err(|error| error.to_string())?,
     };
     if let Some(integrator) = args.integrator {
         world.settings.integrator = integrator.into();
@@ -119,6 +124,18 @@ fn run(args: &Args) -> Result<(), String> {
     let wall = started.elapsed().as_secs_f64();
     print_summary(&scene, &world, dt, wall, &initial);
     save_snapshot(args, &world)
+}
+
+/// A world saved by `--save-snapshot`, or by the viewer's "Save world" (which also knows the
+/// step it ran at).
+fn load_saved(path: &Path) -> Result<(WorldSnapshot, Option<f64>), String> {
+    match WorldSnapshot::load(path) {
+        Ok(snapshot) => Ok((snapshot, None)),
+        Err(error) => match SavedWorld::load(path) {
+            Ok(saved) => Ok((saved.world, Some(saved.dt))),
+            Err(_) => Err(error.to_string()),
+        },
+    }
 }
 
 /// Runs a recording through the same `Simulation` the viewer uses, to its last tick.

@@ -49,8 +49,18 @@ pub enum Motion {
     /// Never moves: inverse mass and inverse inertia are zero, as in the report.
     Static,
     /// Taken out of the simulation after its state went non-finite; kept for inspection.
-    /// Feels no force, moves no more and (once contacts exist) touches nothing.
+    /// Feels no force, moves no more and touches nothing.
     Isolated,
+    /// Removed by the user (`World::remove_body`): like `Isolated`, and not drawn. The slot
+    /// stays so that the ids of the other bodies stay valid.
+    Removed,
+}
+
+impl Motion {
+    /// Dynamic or static: a body the simulation still moves or collides with.
+    pub fn takes_part(self) -> bool {
+        matches!(self, Motion::Dynamic | Motion::Static)
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -287,7 +297,7 @@ impl RigidBody {
         let position = desc.position + orientation * props.center;
         let (inv_mass, inv_inertia_local) = match desc.motion {
             Motion::Dynamic => (1.0 / props.mass, props.inertia.inverse()),
-            Motion::Static | Motion::Isolated => (0.0, DMat3::ZERO),
+            Motion::Static | Motion::Isolated | Motion::Removed => (0.0, DMat3::ZERO),
         };
         let mut body = RigidBody {
             name: desc.name.clone(),

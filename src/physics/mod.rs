@@ -43,4 +43,6 @@ pub use query::{CastHit, ray_cast, shape_cast};
 pub use shape::{Pose, Shape, ShapeError};
 pub use snapshot::{SnapshotError, WorldSnapshot};
 pub use toi::{Rewind, TimeOfImpact, bisection_rewind, conservative_advancement, swept_aabb};
-pub use world::{Fault, MAX_STEP, Pipeline, StepError, World, WorldSettings, WorldTotals};
+pub use world::{
+    Fault, MAX_STEP, Pipeline, RemoveError, StepError, World, WorldSettings, WorldTotals,
+};

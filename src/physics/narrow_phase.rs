@@ -36,12 +36,12 @@ const EMPTY_PROXY: Proxy = Proxy {
 };
 
 /// A body's broad-phase proxy: its box grown by half the fixed margin and by its motion
-/// bound. Sleeping bodies are inactive (they pair with awake bodies only); isolated bodies
-/// get an empty box so that they meet nothing.
+/// bound. Sleeping bodies are inactive (they pair with awake bodies only); isolated and
+/// removed bodies get an empty box so that they meet nothing.
 pub fn proxy_of(body: &RigidBody, dt: f64) -> Proxy {
     match body.motion {
-        Motion::Isolated => EMPTY_PROXY,
-        _ => Proxy {
+        Motion::Isolated | Motion::Removed => EMPTY_PROXY,
+        Motion::Dynamic | Motion::Static => Proxy {
             active: body.is_awake(),
             ..Proxy::of_body(body, 0.5 * SPECULATIVE_DISTANCE + motion_bound(body, dt))
         },
@@ -60,7 +60,7 @@ pub fn update_proxies(
     proxies.resize(bodies.len(), EMPTY_PROXY);
     stale.resize(bodies.len(), true);
     for ((body, proxy), stale) in bodies.iter().zip(proxies.iter_mut()).zip(stale.iter_mut()) {
-        if body.is_awake() || *stale || body.motion == Motion::Isolated {
+        if body.is_awake() || *stale || !body.motion.takes_part() {
             *proxy = proxy_of(body, dt);
             *stale = false;
         } else {

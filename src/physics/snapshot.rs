@@ -13,7 +13,7 @@ use glam::DMat3;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::physics::body::{Motion, RigidBody};
+use crate::physics::body::RigidBody;
 use crate::physics::broad_phase::{BroadPhaseKind, Proxy};
 use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::EnvironmentForce;
@@ -233,7 +233,7 @@ fn force_is_finite(force: &EnvironmentForce) -> bool {
 /// non-finite) a finite state and non-negative inverse mass.
 fn check_body(body: &RigidBody) -> Result<(), String> {
     body.shape.validate().map_err(|e| format!("shape: {e}"))?;
-    if body.motion == Motion::Isolated {
+    if !body.motion.takes_part() {
         return Ok(());
     }
     if !body.is_finite() || !body.force.is_finite() || !body.torque.is_finite() {

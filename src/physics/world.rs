@@ -21,6 +21,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use crate::physics::aabb::Aabb;
 use crate::physics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
 use crate::physics::broad_phase::{BodyPair, BroadPhase, BroadPhaseKind, Proxy};
 use crate::physics::classic::{self, ClassicContext, ClassicReport, ClassicSettings};
@@ -118,6 +119,14 @@ impl std::fmt::Debug for BroadPhaseState {
 pub const MAX_STEP: f64 = 1.0;
 
 #[derive(Debug, thiserror::Error, PartialEq)]
+pub enum RemoveError {
+    #[error("there is no body {0}")]
+    NoSuchBody(u32),
+    #[error("body {0} was already removed")]
+    AlreadyRemoved(u32),
+}
+
+#[derive(Debug, thiserror::Error, PartialEq)]
 pub enum StepError {
     #[error("dt must be finite and at most {MAX_STEP} s either way, got {0}")]
     BadDt(f64),
@@ -197,6 +206,36 @@ impl World {
         let id = BodyId(self.bodies.len() as u32);
         self.bodies.push(body);
         Ok(id)
+    }
+
+    /// Takes a body out: it no longer moves, feels forces or touches anything, and every
+    /// sleeping body whose broad-phase box touched its box wakes up, so that what rested on
+    /// it falls. Its slot stays (see `Motion::Removed`), so other ids stay valid.
+    pub fn remove_body(&mut self, id: BodyId) -> Result<(), RemoveError> {
+        let index = id.index();
+        match self.bodies.get(index).map(|b| b.motion) {
+            None => return Err(RemoveError::NoSuchBody(id.0)),
+            Some(Motion::Removed) => return Err(RemoveError::AlreadyRemoved(id.0)),
+            Some(_) => {}
+        }
+        let reach = self
+            .proxies
+            .get(index)
+            .map_or_else(|| Aabb::of_body(&self.bodies[index]), |p| p.aabb);
+        for (other, proxy) in self.bodies.iter_mut().zip(&self.proxies) {
+            if other.sleeping && proxy.aabb.overlaps(&reach) {
+                other.wake();
+            }
+        }
+        let body = &mut self.bodies[index];
+        body.motion = Motion::Removed;
+        body.sleeping = false;
+        body.linear_momentum = DVec3::ZERO;
+        body.angular_momentum = DVec3::ZERO;
+        if let Some(stale) = self.stale_proxies.get_mut(index) {
+            *stale = true;
+        }
+        Ok(())
     }
 
     pub fn body(&self, id: BodyId) -> &RigidBody {
@@ -380,7 +419,7 @@ impl World {
     fn isolate_non_finite(&mut self) {
         for (index, body) in self.bodies.iter_mut().enumerate() {
             let finite = body.is_finite() && body.force.is_finite() && body.torque.is_finite();
-            if body.motion != Motion::Isolated && !finite {
+            if body.motion.takes_part() && !finite {
                 body.motion = Motion::Isolated;
                 self.faults.push(Fault {
                     body: BodyId(index as u32),

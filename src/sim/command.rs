@@ -78,6 +78,11 @@ pub enum Command {
         impulse: DVec3,
         point: DVec3,
     },
+    /// Takes body `body` (index into the snapshot's bodies) out of the world; what rested on
+    /// it wakes and falls.
+    RemoveBody {
+        body: usize,
+    },
     /// Writes the world, with the scene name and hidden bodies, to a file (see `SavedWorld`).
     SaveWorld(PathBuf),
     /// Replaces the world by one saved with `SaveWorld`.

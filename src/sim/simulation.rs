@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use glam::{DVec3, Vec3};
 
-use crate::physics::{Aabb, BodyId, EnvironmentForce, Material, RigidBody, World};
+use crate::physics::{Aabb, BodyId, EnvironmentForce, Material, Motion, RigidBody, World};
 use crate::scene::MAX_BODIES;
 use crate::sim::command::{Command, SpawnKind};
 use crate::sim::recording::{RecordedCommand, Recording};
@@ -190,6 +190,12 @@ impl Simulation {
                 impulse,
                 point,
             } => self.apply_impulse(body, impulse, point),
+            Command::RemoveBody { body } => {
+                let removed = self
+                    .world
+                    .remove_body(BodyId(body.min(u32::MAX as usize) as u32));
+                self.message = removed.err().map(|e| e.to_string());
+            }
             Command::SaveWorld(path) => self.save_world(&path),
             Command::LoadWorld(path) => self.load_world(&path),
             Command::SaveRecording(path) => {
@@ -244,7 +250,8 @@ impl Simulation {
             .iter()
             .enumerate()
             .map(|(i, body)| {
-                let visible = !self.hidden.get(i).copied().unwrap_or(false);
+                let hidden = self.hidden.get(i).copied().unwrap_or(false);
+                let visible = !hidden && body.motion != Motion::Removed;
                 body_state(body, self.previous[i], self.shape_ids[i], visible)
             })
             .collect();

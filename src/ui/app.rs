@@ -178,11 +178,23 @@ impl App {
         match key {
             Key::Named(NamedKey::Space) => self.sim.send(Command::SetPaused(!paused)),
             Key::Character(c) if c.as_str() == "r" => self.sim.send(Command::Reset),
+            Key::Named(NamedKey::Delete | NamedKey::Backspace) => self.remove_under_cursor(),
             Key::Character(c) if c.as_str() == "n" => {
                 self.sim.send(Command::SetPaused(true));
                 self.sim.send(Command::StepOnce);
             }
             _ => {}
+        }
+    }
+
+    /// Removes the body under the cursor, static or dynamic (a support pulled away).
+    fn remove_under_cursor(&mut self) {
+        let Some(snapshot) = self.sim.latest() else {
+            return;
+        };
+        let poses = current_poses(&snapshot);
+        if let Some(hit) = self.pick_under_cursor(&snapshot, &poses) {
+            self.sim.send(Command::RemoveBody { body: hit.body });
         }
     }
 
