@@ -5,7 +5,7 @@ mod common;
 use common::*;
 use glam::{DMat3, DVec3};
 use proptest::prelude::*;
-use rigid::physics::broad_phase::{BruteForce, SweepAndPrune, UniformGrid};
+use rigid::physics::broad_phase::{BruteForce, SplitBroadPhase, SweepAndPrune, UniformGrid};
 use rigid::physics::{
     Aabb, BroadPhase, BroadPhaseKind, Motion, PosedShape, Proxy, Shape, SupportMap,
 };
@@ -100,6 +100,7 @@ proptest! {
         let mut scene = scene;
         let mut grid = UniformGrid::new(cell_size);
         let mut sweep = SweepAndPrune::default();
+        let mut split = SplitBroadPhase::new(BroadPhaseKind::SweepAndPrune);
         let squash = |c: DVec3| DVec3::new(0.05 * c.x, 20.0 * c.y, 0.05 * c.z);
         let moves = steps.iter().map(|offsets| Some(offsets.as_slice()));
         for step in std::iter::once(None).chain(moves).chain([None]) {
@@ -118,6 +119,38 @@ proptest! {
             }
             prop_assert_eq!(&grid.find_pairs(&proxies), &expected);
             prop_assert_eq!(&sweep.find_pairs(&proxies), &expected);
+            let awake: Vec<u32> = (0..proxies.len() as u32).filter(|&i| proxies[i as usize].active).collect();
+            prop_assert_eq!(&split.find_pairs(&proxies, &awake, true), &expected);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+
+    /// The world's split broad phase keeps its tree of idle boxes while only awake boxes
+    /// move, and still finds exactly the brute-force pairs.
+    #[test]
+    fn split_broad_phase_keeps_idle_boxes_between_steps(
+        (scene, steps) in scene().prop_flat_map(|s| {
+            let n = s.boxes.len();
+            (Just(s), prop::collection::vec(moves(n), 1..5))
+        }),
+        kind in prop_oneof![
+            Just(BroadPhaseKind::SweepAndPrune),
+            Just(BroadPhaseKind::BruteForce),
+            (0.5..4.0f64).prop_map(|cell_size| BroadPhaseKind::UniformGrid { cell_size }),
+        ],
+    ) {
+        let mut scene = scene;
+        let mut split = SplitBroadPhase::new(kind);
+        for (step, offsets) in steps.iter().enumerate() {
+            let proxies = scene.proxies();
+            let awake: Vec<u32> = (0..proxies.len() as u32).filter(|&i| proxies[i as usize].active).collect();
+            prop_assert_eq!(split.find_pairs(&proxies, &awake, step == 0), BruteForce.find_pairs(&proxies));
+            for (b, offset) in scene.boxes.iter_mut().zip(offsets).filter(|(b, _)| b.2) {
+                b.0 += *offset;
+            }
         }
     }
 }

@@ -142,7 +142,10 @@ impl Sim {
             settings: &self.settings,
             dt,
         };
-        let impulses = soft_solver::step(&mut self.bodies, &contacts, &ctx);
+        let awake: Vec<u32> = (0..self.bodies.len() as u32)
+            .filter(|&i| self.bodies[i as usize].is_awake())
+            .collect();
+        let impulses = soft_solver::step(&mut self.bodies, &awake, &contacts, &ctx);
         self.warm = keys.into_iter().zip(impulses).collect();
     }
 }

@@ -9,7 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::physics::body::RigidBody;
+use crate::physics::body::{BodyId, RigidBody};
 use crate::physics::contact::ContactManifold;
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -32,50 +32,58 @@ impl Default for SleepSettings {
     }
 }
 
-/// Updates quiet times, then wakes or sleeps every island. Returns the number of awake bodies.
+/// Updates the quiet times of the awake bodies, then puts to sleep or wakes the islands they
+/// form with the bodies they touch. Only the awake bodies and the sleeping bodies in this
+/// step's contacts are visited: bodies asleep apart from them stay as they are at no cost.
+/// Returns true when some body fell asleep or woke.
 pub fn update(
     bodies: &mut [RigidBody],
+    awake: &[u32],
     manifolds: &[ContactManifold],
     dt: f64,
     settings: &SleepSettings,
-) -> usize {
-    if !settings.enabled {
-        bodies
-            .iter_mut()
-            .filter(|b| b.sleeping)
-            .for_each(RigidBody::wake);
-        return bodies.iter().filter(|b| b.is_awake()).count();
-    }
-    for body in bodies.iter_mut().filter(|b| b.is_awake()) {
+) -> bool {
+    for &index in awake {
+        let body = &mut bodies[index as usize];
         let quiet = body.kinetic_energy() < 0.5 * body.mass() * settings.sleep_speed.powi(2);
         body.quiet_time = if quiet { body.quiet_time + dt } else { 0.0 };
     }
-    let mut islands = UnionFind::new(bodies.len());
+    // The members: awake bodies and the sleeping ones they touch, ascending.
+    let mut members: Vec<u32> = awake.to_vec();
     for m in manifolds {
-        let (a, b) = (m.body_a.index(), m.body_b.index());
-        if bodies[a].is_dynamic() && bodies[b].is_dynamic() {
+        for id in [m.body_a, m.body_b] {
+            if bodies[id.index()].is_dynamic() && bodies[id.index()].sleeping {
+                members.push(id.0);
+            }
+        }
+    }
+    members.sort_unstable();
+    members.dedup();
+    let local = |id: BodyId| members.binary_search(&id.0).ok();
+    let mut islands = UnionFind::new(members.len());
+    for m in manifolds {
+        if let (Some(a), Some(b)) = (local(m.body_a), local(m.body_b)) {
             islands.union(a, b);
         }
     }
     let ready = |body: &RigidBody| body.sleeping || body.quiet_time >= settings.time_to_sleep;
     // An island may sleep only if every member is ready.
-    let mut island_ready = vec![true; bodies.len()];
-    for (index, body) in bodies.iter().enumerate().filter(|(_, b)| b.is_dynamic()) {
-        let root = islands.find(index);
-        island_ready[root] &= ready(body);
+    let mut island_ready = vec![true; members.len()];
+    for (k, &index) in members.iter().enumerate() {
+        let root = islands.find(k);
+        island_ready[root] &= ready(&bodies[index as usize]);
     }
-    for index in 0..bodies.len() {
-        if !bodies[index].is_dynamic() {
-            continue;
+    let mut changed = false;
+    for (k, &index) in members.iter().enumerate() {
+        let body = &mut bodies[index as usize];
+        match (island_ready[islands.find(k)], body.sleeping) {
+            (true, false) => body.sleep(),
+            (false, true) => body.wake(),
+            _ => continue,
         }
-        let sleep = island_ready[islands.find(index)];
-        match (sleep, bodies[index].sleeping) {
-            (true, false) => bodies[index].sleep(),
-            (false, true) => bodies[index].wake(),
-            _ => {}
-        }
+        changed = true;
     }
-    bodies.iter().filter(|b| b.is_awake()).count()
+    changed
 }
 
 /// Disjoint sets with path halving and union by size.

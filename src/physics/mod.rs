@@ -4,6 +4,7 @@
 //! solve (forces, integration and contacts, in substeps) → diagnostics.
 
 pub mod aabb;
+pub mod awake_set;
 pub mod body;
 pub mod broad_phase;
 pub mod classic;

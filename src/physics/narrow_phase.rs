@@ -48,25 +48,18 @@ pub fn proxy_of(body: &RigidBody, dt: f64) -> Proxy {
     }
 }
 
-/// Refreshes the proxies of awake bodies and of bodies marked `stale`. Static and sleeping
-/// bodies do not move, so their boxes are kept from when they were last computed: idle bodies
-/// cost a flag test per step, not a bounding-box computation.
+/// Recomputes the proxies of the bodies in `refresh` (the awake ones and those the user
+/// touched). Static and sleeping bodies do not move, so their boxes are kept from when they
+/// were last computed: idle bodies cost nothing here.
 pub fn update_proxies(
     bodies: &[RigidBody],
     dt: f64,
     proxies: &mut Vec<Proxy>,
-    stale: &mut Vec<bool>,
+    refresh: impl Iterator<Item = usize>,
 ) {
     proxies.resize(bodies.len(), EMPTY_PROXY);
-    stale.resize(bodies.len(), true);
-    for ((body, proxy), stale) in bodies.iter().zip(proxies.iter_mut()).zip(stale.iter_mut()) {
-        if body.is_awake() || *stale || !body.motion.takes_part() {
-            *proxy = proxy_of(body, dt);
-            *stale = false;
-        } else {
-            // Fell asleep since: keep the box, stop initiating pairs.
-            proxy.active = false;
-        }
+    for index in refresh {
+        proxies[index] = proxy_of(&bodies[index], dt);
     }
 }
 

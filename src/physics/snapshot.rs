@@ -34,9 +34,10 @@ pub struct WorldSnapshot {
     /// The force list the last step saw: an edit since then wakes every body.
     pub forces_seen: Vec<EnvironmentForce>,
     pub bodies: Vec<RigidBody>,
-    /// Broad-phase boxes kept between steps, by body, and which must be recomputed.
+    /// Broad-phase boxes kept between steps, by body.
     pub proxies: Vec<Proxy>,
-    pub stale_proxies: Vec<bool>,
+    /// Bodies added or edited since the last step, which the next step looks at again.
+    pub touched: Vec<u32>,
     pub contact_cache: ContactCache,
     pub awake: usize,
     pub faults: Vec<Fault>,
@@ -113,16 +114,14 @@ impl WorldSnapshot {
             })?;
         }
         let count = self.bodies.len();
-        if !self.proxies.is_empty() && self.proxies.len() != count {
+        if self.proxies.len() > count {
             return Err(inconsistent(format!(
                 "{} broad-phase proxies for {count} bodies",
                 self.proxies.len()
             )));
         }
-        if self.stale_proxies.len() != self.proxies.len() {
-            return Err(inconsistent(
-                "stale_proxies and proxies differ in length".into(),
-            ));
+        if self.touched.iter().any(|&i| i as usize >= count) {
+            return Err(inconsistent("touched names a missing body".into()));
         }
         if self
             .contact_cache

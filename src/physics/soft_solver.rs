@@ -130,10 +130,12 @@ pub struct StepContext<'a> {
     pub dt: f64,
 }
 
-/// Advances `bodies` by one step of `ctx.dt` with the given contacts, and returns the
-/// impulses each contact ended with (same order as `contacts`) for warm starting.
+/// Advances the `awake` bodies (ascending indices into `bodies`) by one step of `ctx.dt` with
+/// the given contacts, and returns the impulses each contact ended with (same order as
+/// `contacts`) for warm starting. No other body is visited.
 pub fn step(
     bodies: &mut [RigidBody],
+    awake: &[u32],
     contacts: &[ContactInput],
     ctx: &StepContext,
 ) -> Vec<WarmImpulse> {
@@ -146,13 +148,13 @@ pub fn step(
     let hertz = ctx.settings.contact_hertz.min(0.25 / h);
     let softness = Softness::new(hertz, ctx.settings.damping_ratio, h);
     // Forces the user applied before the step act over all of it, like the environment's.
-    let user_forces: Vec<(DVec3, DVec3)> = bodies.iter().map(|b| (b.force, b.torque)).collect();
+    let user_forces: Vec<(DVec3, DVec3)> = awake
+        .iter()
+        .map(|&i| (bodies[i as usize].force, bodies[i as usize].torque))
+        .collect();
     for _ in 0..substeps {
-        let dynamic = bodies
-            .iter_mut()
-            .zip(&user_forces)
-            .filter(|(b, _)| b.is_awake());
-        for (body, &(force, torque)) in dynamic {
+        for (&index, &(force, torque)) in awake.iter().zip(&user_forces) {
+            let body = &mut bodies[index as usize];
             body.force = force;
             body.torque = torque;
             forces::apply_environment(ctx.forces, body);
@@ -165,13 +167,15 @@ pub fn step(
             h,
             Some((softness, ctx.settings.max_push_out)),
         );
-        for body in bodies.iter_mut().filter(|b| b.is_awake()) {
-            integrate::integrate_pose(body, h, ctx.integrator);
+        for &index in awake {
+            integrate::integrate_pose(&mut bodies[index as usize], h, ctx.integrator);
         }
         solve(bodies, &mut constraints, h, None);
     }
     apply_restitution(bodies, &mut constraints, ctx.settings.restitution_threshold);
-    bodies.iter_mut().for_each(RigidBody::clear_accumulators);
+    for &index in awake {
+        bodies[index as usize].clear_accumulators();
+    }
     constraints.iter().map(|c| c.impulse).collect()
 }
 

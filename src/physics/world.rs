@@ -22,8 +22,9 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::physics::aabb::Aabb;
+use crate::physics::awake_set::AwakeSet;
 use crate::physics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
-use crate::physics::broad_phase::{BodyPair, BroadPhase, BroadPhaseKind, Proxy};
+use crate::physics::broad_phase::{BodyPair, BroadPhaseKind, Proxy, SplitBroadPhase};
 use crate::physics::classic::{self, ClassicContext, ClassicReport, ClassicSettings};
 use crate::physics::contact::ContactManifold;
 use crate::physics::contact_cache::ContactCache;
@@ -58,14 +59,16 @@ pub enum Pipeline {
     Classic,
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct World {
     bodies: Vec<RigidBody>,
-    broad_phase: BroadPhaseState,
-    /// Broad-phase proxies kept between steps (see `narrow_phase::update_proxies`), and which
-    /// of them must be recomputed because the user may have moved the body.
+    broad_phase: SplitBroadPhase,
+    /// Broad-phase proxies kept between steps (see `narrow_phase::update_proxies`).
     proxies: Vec<Proxy>,
-    stale_proxies: Vec<bool>,
+    /// The awake bodies, and the bodies touched since the last step: what a step visits.
+    awake_set: AwakeSet,
+    /// Everyone was woken since sleeping was last switched off.
+    woken_for_no_sleep: bool,
     manifolds: Vec<ContactManifold>,
     contact_cache: ContactCache,
     /// The force list as the last step saw it: an edit wakes every body.
@@ -80,37 +83,9 @@ pub struct World {
     faults: Vec<Fault>,
 }
 
-/// The broad phase in use, rebuilt when the settings name another kind. Its state is only a
-/// cache for incremental updates, so a cloned world starts a fresh one.
-struct BroadPhaseState {
-    kind: BroadPhaseKind,
-    implementation: Box<dyn BroadPhase + Send>,
-}
-
-impl BroadPhaseState {
-    fn new(kind: BroadPhaseKind) -> Self {
-        BroadPhaseState {
-            kind,
-            implementation: kind.create(),
-        }
-    }
-}
-
-impl Default for BroadPhaseState {
+impl Default for World {
     fn default() -> Self {
-        BroadPhaseState::new(BroadPhaseKind::default())
-    }
-}
-
-impl Clone for BroadPhaseState {
-    fn clone(&self) -> Self {
-        BroadPhaseState::new(self.kind)
-    }
-}
-
-impl std::fmt::Debug for BroadPhaseState {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "BroadPhaseState({:?})", self.kind)
+        World::new(WorldSettings::default())
     }
 }
 
@@ -154,9 +129,21 @@ pub struct WorldTotals {
 impl World {
     pub fn new(settings: WorldSettings) -> Self {
         World {
+            bodies: Vec::new(),
+            broad_phase: SplitBroadPhase::new(settings.broad_phase),
+            proxies: Vec::new(),
+            awake_set: AwakeSet::default(),
+            woken_for_no_sleep: false,
+            manifolds: Vec::new(),
+            contact_cache: ContactCache::default(),
+            forces_seen: Vec::new(),
+            awake: 0,
+            classic_report: ClassicReport::default(),
+            forces: Vec::new(),
             settings,
-            broad_phase: BroadPhaseState::new(settings.broad_phase),
-            ..World::default()
+            time: 0.0,
+            steps: 0,
+            faults: Vec::new(),
         }
     }
 
@@ -171,7 +158,7 @@ impl World {
             forces_seen: self.forces_seen.clone(),
             bodies: self.bodies.clone(),
             proxies: self.proxies.clone(),
-            stale_proxies: self.stale_proxies.clone(),
+            touched: self.awake_set.touched().to_vec(),
             contact_cache: self.contact_cache.clone(),
             awake: self.awake,
             faults: self.faults.clone(),
@@ -184,19 +171,16 @@ impl World {
         snapshot.check(file)?;
         Ok(World {
             bodies: snapshot.bodies,
-            broad_phase: BroadPhaseState::new(snapshot.settings.broad_phase),
             proxies: snapshot.proxies,
-            stale_proxies: snapshot.stale_proxies,
-            manifolds: Vec::new(),
+            awake_set: AwakeSet::with_touched(snapshot.touched),
             contact_cache: snapshot.contact_cache,
             forces_seen: snapshot.forces_seen,
             awake: snapshot.awake,
-            classic_report: ClassicReport::default(),
             forces: snapshot.forces,
-            settings: snapshot.settings,
             time: snapshot.time,
             steps: snapshot.steps,
             faults: snapshot.faults,
+            ..World::new(snapshot.settings)
         })
     }
 
@@ -205,6 +189,7 @@ impl World {
         let body = RigidBody::from_desc(&desc)?;
         let id = BodyId(self.bodies.len() as u32);
         self.bodies.push(body);
+        self.awake_set.touch(id.index());
         Ok(id)
     }
 
@@ -232,9 +217,7 @@ impl World {
         body.sleeping = false;
         body.linear_momentum = DVec3::ZERO;
         body.angular_momentum = DVec3::ZERO;
-        if let Some(stale) = self.stale_proxies.get_mut(index) {
-            *stale = true;
-        }
+        self.awake_set.touch(index);
         Ok(())
     }
 
@@ -242,10 +225,11 @@ impl World {
         &self.bodies[id.index()]
     }
 
-    /// Mutable access; the body's broad-phase box is recomputed at the next step.
+    /// Mutable access; the next step looks at the body again (its box, whether it is awake,
+    /// whether its state is finite).
     pub fn body_mut(&mut self, id: BodyId) -> &mut RigidBody {
-        if let Some(stale) = self.stale_proxies.get_mut(id.index()) {
-            *stale = true;
+        if id.index() < self.bodies.len() {
+            self.awake_set.touch(id.index());
         }
         &mut self.bodies[id.index()]
     }
@@ -284,14 +268,14 @@ impl World {
     }
 
     fn advance(&mut self, dt: f64) {
+        let touched = self.awake_set.take_touched();
         // A non-finite user force or state is caught before any contact can spread it.
-        self.isolate_non_finite();
+        self.isolate_non_finite(&touched);
         if dt >= 0.0 {
-            self.wake_on_user_input();
-            let pairs = self.broad_phase(dt);
+            self.wake_on_user_input(&touched);
+            let pairs = self.broad_phase(dt, &touched);
             self.manifolds = narrow_phase::find_manifolds(&self.bodies, &pairs, dt);
-            self.awake =
-                islands::update(&mut self.bodies, &self.manifolds, dt, &self.settings.sleep);
+            self.update_sleep(dt);
             let bodies = &self.bodies;
             self.manifolds.retain(|m| {
                 bodies[m.body_a.index()].is_awake() || bodies[m.body_b.index()].is_awake()
@@ -303,10 +287,38 @@ impl World {
         } else {
             self.manifolds.clear();
             self.run_backwards(dt);
+            // No broad phase ran: the next forward step still has to look at these.
+            for &index in &touched {
+                self.awake_set.touch(index as usize);
+            }
         }
-        self.isolate_non_finite();
+        let awake = self.awake_set.awake(&self.bodies).to_vec();
+        self.isolate_non_finite(&awake);
         self.time += dt;
         self.steps += 1;
+    }
+
+    /// Islands of the awake bodies fall asleep or wake (see `islands`). With sleeping off,
+    /// every body is woken once.
+    fn update_sleep(&mut self, dt: f64) {
+        if !self.settings.sleep.enabled {
+            if !self.woken_for_no_sleep {
+                self.bodies
+                    .iter_mut()
+                    .filter(|b| b.sleeping)
+                    .for_each(RigidBody::wake);
+                self.awake_set.invalidate();
+                self.woken_for_no_sleep = true;
+            }
+        } else {
+            self.woken_for_no_sleep = false;
+            let awake = self.awake_set.awake(&self.bodies);
+            let sleep = &self.settings.sleep;
+            if islands::update(&mut self.bodies, awake, &self.manifolds, dt, sleep) {
+                self.awake_set.invalidate();
+            }
+        }
+        self.awake = self.awake_set.awake(&self.bodies).len();
     }
 
     /// Counters of the last step when the classic pipeline ran it.
@@ -339,18 +351,30 @@ impl World {
         self.awake
     }
 
-    /// A changed force list, or a force a user put on a sleeping body, wakes it.
-    fn wake_on_user_input(&mut self) {
+    /// A changed force list wakes every body; a force a user put on a sleeping body wakes it.
+    /// Forces the user put on a static body are dropped (nothing ever clears them otherwise).
+    fn wake_on_user_input(&mut self, touched: &[u32]) {
         // Before the first step there is nothing to compare with: bodies start awake anyway,
         // and one put to sleep by hand stays asleep.
         let forces_changed = self.forces != self.forces_seen;
         if forces_changed {
             self.forces_seen = self.forces.clone();
         }
-        let forces_changed = forces_changed && self.steps > 0;
-        for body in self.bodies.iter_mut().filter(|b| b.sleeping) {
-            if forces_changed || body.force != DVec3::ZERO || body.torque != DVec3::ZERO {
+        if forces_changed && self.steps > 0 {
+            self.bodies
+                .iter_mut()
+                .filter(|b| b.sleeping)
+                .for_each(RigidBody::wake);
+            self.awake_set.invalidate();
+        }
+        for &index in touched {
+            let body = &mut self.bodies[index as usize];
+            let pushed = body.force != DVec3::ZERO || body.torque != DVec3::ZERO;
+            if body.sleeping && pushed {
                 body.wake();
+            }
+            if !body.is_dynamic() {
+                body.clear_accumulators();
             }
         }
     }
@@ -371,12 +395,25 @@ impl World {
         &self.manifolds
     }
 
-    fn broad_phase(&mut self, dt: f64) -> Vec<BodyPair> {
-        if self.broad_phase.kind != self.settings.broad_phase {
-            self.broad_phase = BroadPhaseState::new(self.settings.broad_phase);
+    /// Proxies of the awake and touched bodies are refreshed; idle ones are kept, and only
+    /// when some body fell asleep, woke or was touched are the idle boxes looked at again.
+    fn broad_phase(&mut self, dt: f64, touched: &[u32]) -> Vec<BodyPair> {
+        if self.broad_phase.kind() != self.settings.broad_phase {
+            self.broad_phase = SplitBroadPhase::new(self.settings.broad_phase);
         }
-        narrow_phase::update_proxies(&self.bodies, dt, &mut self.proxies, &mut self.stale_proxies);
-        self.broad_phase.implementation.find_pairs(&self.proxies)
+        let awake = self.awake_set.awake(&self.bodies);
+        let refresh = awake.iter().chain(touched).map(|&i| i as usize);
+        narrow_phase::update_proxies(&self.bodies, dt, &mut self.proxies, refresh);
+        let idle_changed = self.awake_set.take_rebuilt();
+        if idle_changed {
+            // Bodies that fell asleep keep their box but stop initiating pairs.
+            for (proxy, body) in self.proxies.iter_mut().zip(&self.bodies) {
+                proxy.active = body.is_awake();
+            }
+        }
+        let awake = self.awake_set.awake(&self.bodies);
+        self.broad_phase
+            .find_pairs(&self.proxies, awake, idle_changed)
     }
 
     /// Forces, integration and contacts together, in substeps (see `soft_solver`).
@@ -388,7 +425,8 @@ impl World {
             settings: &self.settings.solver,
             dt,
         };
-        let impulses = soft_solver::step(&mut self.bodies, &inputs, &ctx);
+        let awake = self.awake_set.awake(&self.bodies);
+        let impulses = soft_solver::step(&mut self.bodies, awake, &inputs, &ctx);
         self.contact_cache.store(&self.manifolds, &impulses);
     }
 
@@ -402,7 +440,9 @@ impl World {
     fn run_backwards(&mut self, dt: f64) {
         let substeps = self.settings.solver.substeps.max(1);
         let h = dt / substeps as f64;
-        for body in self.bodies.iter_mut().filter(|b| b.is_awake()) {
+        let awake = self.awake_set.awake(&self.bodies);
+        for &index in awake {
+            let body = &mut self.bodies[index as usize];
             let (force, torque) = (body.force, body.torque);
             for _ in 0..substeps {
                 body.force = force;
@@ -415,18 +455,21 @@ impl World {
     }
 
     /// Diagnostics stage: a body whose state is no longer finite is isolated before anything
-    /// else can read it, so NaN never spreads to other bodies or to the world totals.
-    fn isolate_non_finite(&mut self) {
-        for (index, body) in self.bodies.iter_mut().enumerate() {
+    /// else can read it, so NaN never spreads to other bodies or to the world totals. Only
+    /// the listed bodies can have changed: the ones the user touched, or the awake ones.
+    fn isolate_non_finite(&mut self, bodies: &[u32]) {
+        for &index in bodies {
+            let body = &mut self.bodies[index as usize];
             let finite = body.is_finite() && body.force.is_finite() && body.torque.is_finite();
             if body.motion.takes_part() && !finite {
                 body.motion = Motion::Isolated;
                 self.faults.push(Fault {
-                    body: BodyId(index as u32),
+                    body: BodyId(index),
                     name: body.name.clone(),
                     step: self.steps,
                     time: self.time,
                 });
+                self.awake_set.touch(index as usize);
             }
         }
     }

@@ -10,11 +10,16 @@
 //! A pair is reported when the boxes overlap (touching counts) and at least one of the two
 //! proxies is active. Static bodies are never active, so static-static pairs never appear;
 //! a sleeping body is made inactive to skip sleeping-sleeping and sleeping-static pairs.
+//!
+//! The world runs the chosen implementation over the awake bodies only, and finds their
+//! pairs with idle bodies in an `AabbTree` of the idle boxes (`SplitBroadPhase`).
 
+mod aabb_tree;
 mod brute_force;
 mod sweep_and_prune;
 mod uniform_grid;
 
+pub use aabb_tree::AabbTree;
 pub use brute_force::BruteForce;
 pub use sweep_and_prune::SweepAndPrune;
 pub use uniform_grid::UniformGrid;
@@ -91,5 +96,85 @@ impl BroadPhaseKind {
             BroadPhaseKind::UniformGrid { cell_size } => Box::new(UniformGrid::new(cell_size)),
             BroadPhaseKind::SweepAndPrune => Box::new(SweepAndPrune::default()),
         }
+    }
+}
+
+/// The world's broad phase: the chosen implementation over the awake bodies' proxies, plus
+/// an `AabbTree` of the idle (static and sleeping) bodies' boxes that each awake box queries.
+/// The tree is rebuilt only when the set of idle bodies changed, so on other steps idle
+/// bodies cost nothing. The pairs are the same set `wants_pair` gives over all proxies.
+pub struct SplitBroadPhase {
+    kind: BroadPhaseKind,
+    awake_phase: Box<dyn BroadPhase + Send>,
+    idle: AabbTree,
+    /// False until the tree is first built (a new or cloned broad phase).
+    built: bool,
+    /// The awake bodies' proxies, compacted for `awake_phase` (reused between steps).
+    awake_proxies: Vec<Proxy>,
+}
+
+impl SplitBroadPhase {
+    pub fn new(kind: BroadPhaseKind) -> Self {
+        SplitBroadPhase {
+            kind,
+            awake_phase: kind.create(),
+            idle: AabbTree::default(),
+            built: false,
+            awake_proxies: Vec::new(),
+        }
+    }
+
+    pub fn kind(&self) -> BroadPhaseKind {
+        self.kind
+    }
+
+    /// Pairs among `proxies` (indexed by body) where `awake` lists the active ones, sorted.
+    /// `idle_changed` must be true whenever an inactive proxy changed since the last call.
+    pub fn find_pairs(
+        &mut self,
+        proxies: &[Proxy],
+        awake: &[u32],
+        idle_changed: bool,
+    ) -> Vec<BodyPair> {
+        if idle_changed || !self.built {
+            self.built = true;
+            let idle = proxies.iter().enumerate().filter(|(_, p)| !p.active);
+            let boxes = idle.filter(|(_, p)| p.aabb.min.cmple(p.aabb.max).all());
+            self.idle = AabbTree::build(boxes.map(|(i, p)| (p.aabb, i as u32)).collect());
+        }
+        self.awake_proxies.clear();
+        self.awake_proxies
+            .extend(awake.iter().map(|&i| proxies[i as usize]));
+        let mut pairs: Vec<BodyPair> = self
+            .awake_phase
+            .find_pairs(&self.awake_proxies)
+            .into_iter()
+            .map(|p| BodyPair::new(awake[p.a.index()] as usize, awake[p.b.index()] as usize))
+            .collect();
+        for &i in awake {
+            let aabb = &proxies[i as usize].aabb;
+            self.idle
+                .query(aabb, |j| pairs.push(BodyPair::new(i as usize, j as usize)));
+        }
+        pairs.sort_unstable();
+        pairs
+    }
+}
+
+impl Clone for SplitBroadPhase {
+    /// Its state is only a cache: a clone starts fresh (the world rebuilds the tree).
+    fn clone(&self) -> Self {
+        SplitBroadPhase::new(self.kind)
+    }
+}
+
+impl std::fmt::Debug for SplitBroadPhase {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "SplitBroadPhase({:?}, {} idle)",
+            self.kind,
+            self.idle.len()
+        )
     }
 }
