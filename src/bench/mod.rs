@@ -6,6 +6,11 @@
 
 pub mod idle_bodies;
 pub mod integrators;
+pub mod rain;
+pub mod scaling;
+pub mod stage_profile;
+pub mod stress;
+pub mod svg_plot;
 
 use std::time::Instant;
 

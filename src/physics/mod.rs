@@ -25,6 +25,7 @@ pub mod query;
 pub mod shape;
 pub mod snapshot;
 pub mod soft_solver;
+pub mod stage_times;
 pub mod toi;
 pub mod world;
 
@@ -43,6 +44,7 @@ pub use mass::MassProperties;
 pub use query::{CastHit, ray_cast, shape_cast};
 pub use shape::{Pose, Shape, ShapeError};
 pub use snapshot::{SnapshotError, WorldSnapshot};
+pub use stage_times::StageTimes;
 pub use toi::{Rewind, TimeOfImpact, bisection_rewind, conservative_advancement, swept_aabb};
 pub use world::{
     Fault, MAX_STEP, Pipeline, RemoveError, StepError, World, WorldSettings, WorldTotals,

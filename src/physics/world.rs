@@ -34,6 +34,7 @@ use crate::physics::islands::{self, SleepSettings};
 use crate::physics::narrow_phase;
 use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
 use crate::physics::soft_solver::{self, SoftSolverSettings, StepContext};
+use crate::physics::stage_times::{StageTimes, Stopwatch};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -75,6 +76,7 @@ pub struct World {
     forces_seen: Vec<EnvironmentForce>,
     awake: usize,
     classic_report: ClassicReport,
+    stage_times: StageTimes,
     /// Environmental forces, applied to every dynamic body each step. Edit freely.
     pub forces: Vec<EnvironmentForce>,
     pub settings: WorldSettings,
@@ -139,6 +141,7 @@ impl World {
             forces_seen: Vec::new(),
             awake: 0,
             classic_report: ClassicReport::default(),
+            stage_times: StageTimes::default(),
             forces: Vec::new(),
             settings,
             time: 0.0,
@@ -268,18 +271,24 @@ impl World {
     }
 
     fn advance(&mut self, dt: f64) {
+        let mut clock = Stopwatch::start();
+        let mut times = StageTimes::default();
         let touched = self.awake_set.take_touched();
         // A non-finite user force or state is caught before any contact can spread it.
         self.isolate_non_finite(&touched);
+        times.checks = clock.lap();
         if dt >= 0.0 {
             self.wake_on_user_input(&touched);
             let pairs = self.broad_phase(dt, &touched);
+            times.broad_phase = clock.lap();
             self.manifolds = narrow_phase::find_manifolds(&self.bodies, &pairs, dt);
+            times.narrow_phase = clock.lap();
             self.update_sleep(dt);
             let bodies = &self.bodies;
             self.manifolds.retain(|m| {
                 bodies[m.body_a.index()].is_awake() || bodies[m.body_b.index()].is_awake()
             });
+            times.islands = clock.lap();
             match self.settings.pipeline {
                 Pipeline::Soft => self.solve(dt),
                 Pipeline::Classic => self.solve_classic(&pairs, dt),
@@ -292,10 +301,18 @@ impl World {
                 self.awake_set.touch(index as usize);
             }
         }
+        times.solve = clock.lap();
         let awake = self.awake_set.awake(&self.bodies).to_vec();
         self.isolate_non_finite(&awake);
+        times.checks += clock.lap();
+        self.stage_times = times;
         self.time += dt;
         self.steps += 1;
+    }
+
+    /// Where the last step's time went.
+    pub fn stage_times(&self) -> StageTimes {
+        self.stage_times
     }
 
     /// Islands of the awake bodies fall asleep or wake (see `islands`). With sleeping off,

@@ -299,6 +299,7 @@ impl Simulation {
             awake: self.world.awake_count(),
             contacts: self.world.contacts().iter().map(|m| m.contacts.len()).sum(),
             max_penetration: self.world.max_penetration(),
+            stages: self.world.stage_times(),
             kinetic_energy: totals.kinetic_energy,
             potential_energy: totals.potential_energy,
             linear_momentum: totals.linear_momentum.length(),

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use glam::{Quat, Vec3};
 
-use crate::physics::{BroadPhaseKind, Integrator, Pipeline, Shape};
+use crate::physics::{BroadPhaseKind, Integrator, Pipeline, Shape, StageTimes};
 use crate::sim::scenes::CameraHint;
 
 /// Position of the shape's own origin and its orientation: what a mesh needs.
@@ -80,6 +80,8 @@ pub struct Counters {
     pub contacts: usize,
     /// Deepest overlap of the last step, m.
     pub max_penetration: f64,
+    /// Where the last step's time went.
+    pub stages: StageTimes,
     pub kinetic_energy: f64,
     pub potential_energy: f64,
     pub linear_momentum: f64,

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use glam::DVec3;
 
-use crate::physics::{BroadPhaseKind, Integrator, Pipeline};
+use crate::physics::{BroadPhaseKind, Integrator, Pipeline, StageTimes};
 use crate::render::Overlays;
 use crate::sim::{Command, Snapshot, SpawnKind, scene_names};
 use crate::ui::plots;
@@ -299,6 +299,18 @@ impl Panel {
     }
 }
 
+/// The last step's stages in microseconds: broad, narrow, islands, solve.
+fn stage_times(s: &StageTimes) -> String {
+    let us = |seconds: f64| seconds * 1e6;
+    format!(
+        "b {:.0} n {:.0} i {:.0} s {:.0}",
+        us(s.broad_phase),
+        us(s.narrow_phase),
+        us(s.islands),
+        us(s.solve)
+    )
+}
+
 fn counters(ui: &mut egui::Ui, snapshot: &Snapshot, stats: FrameStats) {
     let c = &snapshot.counters;
     let pairs = [
@@ -324,6 +336,7 @@ fn counters(ui: &mut egui::Ui, snapshot: &Snapshot, stats: FrameStats) {
         ("|p|", format!("{:.3} N·s", c.linear_momentum)),
         ("|L|", format!("{:.3} N·m·s", c.angular_momentum)),
         ("max overlap", format!("{:.2} mm", c.max_penetration * 1e3)),
+        ("stages (µs)", stage_times(&c.stages)),
     ];
     // Short counters two to a row keep the plots in view on a 720-pixel window.
     egui::Grid::new("short counters")

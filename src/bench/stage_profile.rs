@@ -1,0 +1,42 @@
+//! Where a step's time goes, scene by scene: the mean of `World::stage_times` over the first
+//! two simulated seconds of each built-in scene at its own dt.
+
+use crate::physics::StageTimes;
+use crate::scene;
+
+const SECONDS: f64 = 2.0;
+
+pub const SCENES: [&str; 6] = [
+    "falling_box",
+    "pachinko",
+    "stack",
+    "pyramid",
+    "rain",
+    "hulls",
+];
+
+/// Mean stage times per step and the number of steps.
+pub fn profile(name: &str) -> (StageTimes, usize) {
+    let scene = scene::load(name).expect("built-in scene");
+    let mut world = scene.build_world().expect("built-in scene builds");
+    let steps = (SECONDS / scene.settings.dt).round() as usize;
+    let mut sum = StageTimes::default();
+    for _ in 0..steps {
+        world.step(scene.settings.dt);
+        let t = world.stage_times();
+        sum.broad_phase += t.broad_phase;
+        sum.narrow_phase += t.narrow_phase;
+        sum.islands += t.islands;
+        sum.solve += t.solve;
+        sum.checks += t.checks;
+    }
+    let n = steps as f64;
+    let mean = StageTimes {
+        broad_phase: sum.broad_phase / n,
+        narrow_phase: sum.narrow_phase / n,
+        islands: sum.islands / n,
+        solve: sum.solve / n,
+        checks: sum.checks / n,
+    };
+    (mean, steps)
+}

@@ -1,0 +1,55 @@
+//! Where a step's time goes: wall time of each stage of the last step, for the viewer's
+//! counters and the benchmark's stage profile. On the web (wasm32 without a clock in std)
+//! every time reads 0.
+
+#[cfg(not(target_arch = "wasm32"))]
+use std::time::Instant;
+
+/// Seconds spent in each stage of the last step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageTimes {
+    /// Proxies and pair finding.
+    pub broad_phase: f64,
+    /// Contact manifolds of the pairs.
+    pub narrow_phase: f64,
+    /// Islands, sleeping and waking.
+    pub islands: f64,
+    /// Forces, integration and contacts (either pipeline).
+    pub solve: f64,
+    /// Checks for non-finite state, before and after.
+    pub checks: f64,
+}
+
+impl StageTimes {
+    pub fn total(&self) -> f64 {
+        self.broad_phase + self.narrow_phase + self.islands + self.solve + self.checks
+    }
+}
+
+/// Laps of a clock: each `lap` returns the seconds since the previous one.
+pub struct Stopwatch {
+    #[cfg(not(target_arch = "wasm32"))]
+    last: Instant,
+}
+
+impl Stopwatch {
+    pub fn start() -> Self {
+        Stopwatch {
+            #[cfg(not(target_arch = "wasm32"))]
+            last: Instant::now(),
+        }
+    }
+
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn lap(&mut self) -> f64 {
+        let now = Instant::now();
+        let seconds = (now - self.last).as_secs_f64();
+        self.last = now;
+        seconds
+    }
+
+    #[cfg(target_arch = "wasm32")]
+    pub fn lap(&mut self) -> f64 {
+        0.0
+    }
+}
