@@ -4,6 +4,7 @@
 //! and returns the error against the analytic answer together with the wall time. Run with
 //! `cargo run --release --bin bench`.
 
+pub mod contact_cases;
 pub mod idle_bodies;
 pub mod integrators;
 pub mod rain;

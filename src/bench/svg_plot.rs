@@ -9,7 +9,9 @@ pub struct Series {
 const WIDTH: f64 = 640.0;
 const HEIGHT: f64 = 400.0;
 const MARGIN: f64 = 60.0;
-const COLORS: [&str; 4] = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd"];
+const COLORS: [&str; 8] = [
+    "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2",
+];
 
 /// A log-log plot of `series` with axis labels and a decade grid.
 pub fn log_log(title: &str, x_label: &str, y_label: &str, series: &[Series]) -> String {

@@ -7,10 +7,12 @@
 use std::path::PathBuf;
 
 use clap::{Parser, ValueEnum};
+use rigid::bench::contact_cases::{self, Point};
 use rigid::bench::idle_bodies::{self, IDLE_BODIES, Idle};
 use rigid::bench::scaling::{self, BRUTE_FORCE_LIMIT, COUNTS, KINDS};
 use rigid::bench::svg_plot::{Series, log_log};
 use rigid::bench::{integrators, markdown_table, stage_profile, stress};
+use rigid::physics::Pipeline;
 
 #[derive(Parser)]
 #[command(about = "Benchmarks of the engine: tables on stdout, plots as SVG")]
@@ -25,6 +27,7 @@ struct Args {
 #[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
 enum Section {
     Integrators,
+    Contacts,
     Idle,
     Scaling,
     Profile,
@@ -36,6 +39,9 @@ fn main() -> Result<(), String> {
     let wants = |s: Section| args.sections.is_empty() || args.sections.contains(&s);
     if wants(Section::Integrators) {
         integrator_tables();
+    }
+    if wants(Section::Contacts) {
+        contact_tables(&args.plots)?;
     }
     if wants(Section::Idle) {
         idle_table();
@@ -60,6 +66,89 @@ fn integrator_tables() {
     println!("### C3 torque-free spin about the intermediate axis, 20 s\n");
     let c3 = integrators::sweep(integrators::intermediate_axis_spin);
     println!("{}", markdown_table(&c3, "max |ΔE|/E"));
+}
+
+fn contact_tables(plots: &std::path::Path) -> Result<(), String> {
+    println!("## Contact pipelines: work against precision\n");
+    let cases: [(&str, &str, fn(Pipeline, u32, f64) -> (f64, f64)); 2] = [
+        (
+            "C2 bounce, worst relative apex error of bounces 1–3",
+            "c2_bounce",
+            contact_cases::bounce,
+        ),
+        (
+            "C4 slide, relative error of the stopping distance",
+            "c4_slide",
+            contact_cases::slide,
+        ),
+    ];
+    for (title, file, case) in cases {
+        let points = contact_cases::sweep(case);
+        println!("### {title}\n");
+        println!(
+            "| pipeline | substeps | dt | error | µs per simulated s |\n|---|---|---|---|---|"
+        );
+        for p in &points {
+            println!(
+                "| {} | {} | 1/{:.0} | {:.2e} | {:.0} |",
+                pipeline_name(p.pipeline),
+                p.substeps,
+                1.0 / p.dt,
+                p.error,
+                p.micros_per_second
+            );
+        }
+        let front = contact_cases::pareto_front(&points);
+        let front_text: Vec<String> = front.iter().map(|p| describe(p)).collect();
+        println!(
+            "\nPareto front (cheapest first): {}\n",
+            front_text.join(" → ")
+        );
+        let series = [Pipeline::Soft, Pipeline::Classic]
+            .into_iter()
+            .flat_map(|pipeline| {
+                contact_cases::SUBSTEPS
+                    .into_iter()
+                    .map(move |substeps| (pipeline, substeps))
+            })
+            .map(|(pipeline, substeps)| Series {
+                name: format!("{} ×{substeps}", pipeline_name(pipeline)),
+                points: points
+                    .iter()
+                    .filter(|p| p.pipeline == pipeline && p.substeps == substeps)
+                    .map(|p| (p.micros_per_second, p.error.max(1e-6)))
+                    .collect(),
+            })
+            .collect::<Vec<_>>();
+        let svg = log_log(title, "µs per simulated second", "relative error", &series);
+        write_plot(plots, &format!("{file}.svg"), &svg)?;
+    }
+    Ok(())
+}
+
+fn pipeline_name(pipeline: Pipeline) -> &'static str {
+    match pipeline {
+        Pipeline::Soft => "soft",
+        Pipeline::Classic => "classic",
+    }
+}
+
+fn describe(p: &Point) -> String {
+    format!(
+        "{} ×{} at 1/{:.0} ({:.1e})",
+        pipeline_name(p.pipeline),
+        p.substeps,
+        1.0 / p.dt,
+        p.error
+    )
+}
+
+fn write_plot(dir: &std::path::Path, name: &str, svg: &str) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let path = dir.join(name);
+    std::fs::write(&path, svg).map_err(|e| format!("{}: {e}", path.display()))?;
+    println!("Plot: `{}`\n", path.display());
+    Ok(())
 }
 
 fn idle_table() {
@@ -111,11 +200,7 @@ fn scaling_table(plots: &std::path::Path) -> Result<(), String> {
         "ms per step",
         &series,
     );
-    std::fs::create_dir_all(plots).map_err(|e| format!("{}: {e}", plots.display()))?;
-    let path = plots.join("scaling.svg");
-    std::fs::write(&path, svg).map_err(|e| format!("{}: {e}", path.display()))?;
-    println!("Plot: `{}`\n", path.display());
-    Ok(())
+    write_plot(plots, "scaling.svg", &svg)
 }
 
 fn profile_table() {
