@@ -68,9 +68,12 @@ fn integrator_tables() {
     println!("{}", markdown_table(&c3, "max |ΔE|/E"));
 }
 
+/// A contact reference case: (pipeline, substeps, dt) → (error, µs per simulated second).
+type ContactCase = fn(Pipeline, u32, f64) -> (f64, f64);
+
 fn contact_tables(plots: &std::path::Path) -> Result<(), String> {
     println!("## Contact pipelines: work against precision\n");
-    let cases: [(&str, &str, fn(Pipeline, u32, f64) -> (f64, f64)); 2] = [
+    let cases: [(&str, &str, ContactCase); 2] = [
         (
             "C2 bounce, worst relative apex error of bounces 1–3",
             "c2_bounce",

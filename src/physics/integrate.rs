@@ -83,21 +83,46 @@ pub fn rotate_report_euler(orientation: DMat3, omega: DVec3, dt: f64) -> DMat3 {
 }
 
 /// exp(ω dt) R, with the rotation built as a unit quaternion and the result re-projected
-/// onto the rotations so that round-off never accumulates.
+/// onto the rotations so that round-off never accumulates. No spin leaves R exactly as is.
 pub fn rotate_exact(orientation: DMat3, omega: DVec3, dt: f64) -> DMat3 {
-    let increment = DQuat::from_scaled_axis(omega * dt);
-    let current = DQuat::from_mat3(&orientation);
-    DMat3::from_quat((increment * current).normalize())
+    if omega == DVec3::ZERO {
+        return orientation;
+    }
+    DMat3::from_quat(rotate_quat(DQuat::from_mat3(&orientation), omega, dt))
 }
 
+/// exp(ω dt) q, normalised.
+fn rotate_quat(current: DQuat, omega: DVec3, dt: f64) -> DQuat {
+    (DQuat::from_scaled_axis(omega * dt) * current).normalize()
+}
+
+/// ω taken at the half-step orientation, by fixed-point iteration. The iteration stops once
+/// ω no longer changes, and is skipped when the inertia is isotropic (spheres, cubes: ω
+/// does not depend on the orientation) or when nothing spins.
 fn rotate_midpoint(body: &RigidBody, dt: f64) -> DMat3 {
     let start = body.orientation;
     let mut omega = body.angular_velocity();
-    for _ in 0..MIDPOINT_ITERATIONS {
-        let half = rotate_exact(start, omega, 0.5 * dt);
-        omega = half * body.inv_inertia_local * half.transpose() * body.angular_momentum;
+    if omega == DVec3::ZERO {
+        return start;
     }
-    rotate_exact(start, omega, dt)
+    let current = DQuat::from_mat3(&start);
+    if !is_isotropic(body.inv_inertia_local) {
+        for _ in 0..MIDPOINT_ITERATIONS {
+            let half = DMat3::from_quat(rotate_quat(current, omega, 0.5 * dt));
+            let next = half * body.inv_inertia_local * half.transpose() * body.angular_momentum;
+            if next == omega {
+                break;
+            }
+            omega = next;
+        }
+    }
+    DMat3::from_quat(rotate_quat(current, omega, dt))
+}
+
+/// k·I: the same inertia about every axis.
+fn is_isotropic(m: DMat3) -> bool {
+    let k = m.x_axis.x;
+    m == DMat3::from_diagonal(DVec3::splat(k))
 }
 
 /// The report's * operator: skew(v) w = v × w.
