@@ -64,17 +64,21 @@ pub fn integrate_momenta(body: &mut RigidBody, dt: f64) {
     body.angular_momentum += body.torque * dt;
 }
 
-/// C += L/m dt, then the orientation, then the world inverse inertia that depends on it.
+/// C += L/m dt, then the orientation, then the world inverse inertia that depends on it
+/// (unchanged when the orientation is).
 pub fn integrate_pose(body: &mut RigidBody, dt: f64, integrator: Integrator) {
     body.position += body.linear_momentum * body.inv_mass * dt;
-    body.orientation = match integrator {
+    let orientation = match integrator {
         Integrator::ReportEuler => {
             rotate_report_euler(body.orientation, body.angular_velocity(), dt)
         }
         Integrator::ExactRotation => rotate_exact(body.orientation, body.angular_velocity(), dt),
         Integrator::Midpoint => rotate_midpoint(body, dt),
     };
-    body.refresh_world_inertia();
+    if orientation != body.orientation {
+        body.orientation = orientation;
+        body.refresh_world_inertia();
+    }
 }
 
 /// The report's update R + ω* R dt, re-orthonormalised.
