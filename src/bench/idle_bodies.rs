@@ -7,13 +7,13 @@ use crate::bench::median_time;
 use crate::physics::{BodyDesc, EnvironmentForce, Material, Shape, World};
 
 pub const IDLE_BODIES: usize = 10_000;
-const STEPS: usize = 120;
-const REPEATS: usize = 5;
+const STEPS: usize = 600;
+const REPEATS: usize = 7;
 
-/// Balls and floor bounce back 90 %: the balls are still bouncing when the timed steps end.
+/// Balls and floor bounce back fully: the balls are still bouncing when the timed steps end.
 const LIVELY: Material = Material {
     density: 1000.0,
-    restitution: 0.9,
+    restitution: 1.0,
     friction: 0.5,
 };
 

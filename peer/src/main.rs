@@ -1,0 +1,432 @@
+//! Side-by-side benchmark of our engine (`rigid`) against rapier3d on the same scenes: wall
+//! time per step and error against a reference, printed as a Markdown section.
+//!
+//! Run: `CARGO_TARGET_DIR=/work/target-peer cargo run --release --manifest-path peer/Cargo.toml`
+
+mod ours;
+mod scenes;
+mod theirs;
+
+use std::time::Instant;
+
+use glam::DVec3;
+
+use crate::ours::Ours;
+use crate::scenes::{DT, GRAVITY, SceneDesc};
+use crate::theirs::Theirs;
+
+/// What the benchmark needs from an engine. Body `i` is `scene.bodies[i]` in both engines.
+pub trait Engine {
+    fn build(scene: &SceneDesc) -> Self;
+    fn step(&mut self);
+    /// Centre of mass, world.
+    fn position(&self, i: usize) -> DVec3;
+    fn velocity(&self, i: usize) -> DVec3;
+    fn kinetic_energy(&self, i: usize) -> f64;
+    fn mass(&self, i: usize) -> f64;
+    fn is_sleeping(&self, i: usize) -> bool;
+}
+
+/// Timed runs per scene; the median is reported.
+const REPEATS: usize = 5;
+
+/// Builds the scene, runs all its steps and returns the engine as it ended and the wall time
+/// per step in ms. Only the steps are timed, not the building.
+fn run<E: Engine>(scene: &SceneDesc) -> (E, f64) {
+    let mut engine = E::build(scene);
+    let start = Instant::now();
+    for _ in 0..scene.steps {
+        engine.step();
+    }
+    let ms = start.elapsed().as_secs_f64() * 1e3 / scene.steps as f64;
+    (engine, ms)
+}
+
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+/// Both engines `REPEATS` times each, taking turns so that a load that comes and goes on the
+/// machine falls on both alike. Returns each engine's last run (the runs are deterministic)
+/// and the median ms per step of each.
+fn run_both(scene: &SceneDesc) -> ((Ours, f64), (Theirs, f64)) {
+    let (mut ours_times, mut theirs_times) = (Vec::new(), Vec::new());
+    let (mut ours_last, mut theirs_last) = (None, None);
+    for _ in 0..REPEATS {
+        let (engine, ms) = run::<Ours>(scene);
+        ours_times.push(ms);
+        ours_last = Some(engine);
+        let (engine, ms) = run::<Theirs>(scene);
+        theirs_times.push(ms);
+        theirs_last = Some(engine);
+    }
+    (
+        (ours_last.expect("ran"), median(ours_times)),
+        (theirs_last.expect("ran"), median(theirs_times)),
+    )
+}
+
+/// One table row: times in ms per step, errors already formatted, and the error ratio when
+/// the two errors are comparable numbers.
+struct Row {
+    scene: String,
+    ours_ms: f64,
+    theirs_ms: f64,
+    ours_error: String,
+    theirs_error: String,
+    /// |our error| / |their error|, when both are numbers and theirs is not zero.
+    error_ratio: Option<f64>,
+}
+
+fn ratio(ours: f64, theirs: f64) -> Option<f64> {
+    (theirs != 0.0).then(|| ours.abs() / theirs.abs())
+}
+
+fn dynamic_bodies(scene: &SceneDesc) -> impl Iterator<Item = usize> + '_ {
+    (0..scene.bodies.len()).filter(|&i| !scene.bodies[i].fixed)
+}
+
+// ---------------------------------------------------------------------------------------
+// Scenes 1 and 2: time and health of larger scenes.
+
+/// Largest distance any box has moved from where it started, m, and how many are asleep.
+fn pyramid_result<E: Engine>(engine: &E, scene: &SceneDesc) -> (f64, usize, usize) {
+    let drift = dynamic_bodies(scene)
+        .map(|i| engine.position(i).distance(scene.bodies[i].position))
+        .fold(0.0, f64::max);
+    let asleep = dynamic_bodies(scene)
+        .filter(|&i| engine.is_sleeping(i))
+        .count();
+    (drift, asleep, dynamic_bodies(scene).count())
+}
+
+fn pyramid_row() -> Row {
+    let scene = scenes::pyramid();
+    let ((ours, ours_ms), (theirs, theirs_ms)) = run_both(&scene);
+    let (ours_drift, ours_asleep, n) = pyramid_result(&ours, &scene);
+    let (theirs_drift, theirs_asleep, _) = pyramid_result(&theirs, &scene);
+    let cell =
+        |drift: f64, asleep: usize| format!("drift {:.1} mm, {asleep}/{n} asleep", drift * 1e3);
+    Row {
+        scene: format!("pyramid, {n} boxes, 10 s"),
+        ours_ms,
+        theirs_ms,
+        ours_error: cell(ours_drift, ours_asleep),
+        theirs_error: cell(theirs_drift, theirs_asleep),
+        error_ratio: ratio(ours_drift, theirs_drift),
+    }
+}
+
+/// Kinetic plus potential energy of the dynamic bodies, potential measured from the floor's
+/// top (y = 0), J. Both engines' energies are summed by the same code.
+fn total_energy<E: Engine>(engine: &E, scene: &SceneDesc) -> f64 {
+    dynamic_bodies(scene)
+        .map(|i| engine.kinetic_energy(i) + engine.mass(i) * GRAVITY * engine.position(i).y)
+        .sum()
+}
+
+/// Bodies outside the bin, and the energy at the end over the energy at the start.
+fn rain_result<E: Engine>(engine: &E, scene: &SceneDesc, bin: scenes::Bin) -> (usize, f64) {
+    let escaped = dynamic_bodies(scene)
+        .filter(|&i| !bin.holds(engine.position(i)))
+        .count();
+    // The start energy from this engine's own masses (a fresh build: all at rest).
+    let start = total_energy(&E::build(scene), scene);
+    (escaped, total_energy(engine, scene) / start)
+}
+
+fn rain_row(count: usize) -> Row {
+    let (scene, bin) = scenes::rain(count);
+    let ((ours, ours_ms), (theirs, theirs_ms)) = run_both(&scene);
+    let (ours_escaped, ours_energy) = rain_result(&ours, &scene, bin);
+    let (theirs_escaped, theirs_energy) = rain_result(&theirs, &scene, bin);
+    let cell = |escaped: usize, energy: f64| format!("{escaped} escaped, E/E₀ {energy:.3}");
+    Row {
+        scene: format!(
+            "rain {count}, bin {w:.0} × {w:.0} × {h:.2} m, 5 s",
+            w = 2.0 * bin.half_width,
+            h = bin.wall_height
+        ),
+        ours_ms,
+        theirs_ms,
+        ours_error: cell(ours_escaped, ours_energy),
+        theirs_error: cell(theirs_escaped, theirs_energy),
+        error_ratio: ratio(ours_escaped as f64, theirs_escaped as f64),
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Scene 3: small cases with analytic answers, run once each (they are deterministic).
+
+/// Builds the scene and runs it, calling `observe` after every step. Returns the engine as
+/// it ended and the ms per step (the steps alone are timed).
+fn run_observed<E: Engine>(scene: &SceneDesc, mut observe: impl FnMut(&E)) -> (E, f64) {
+    let mut engine = E::build(scene);
+    let mut seconds = 0.0;
+    for _ in 0..scene.steps {
+        let start = Instant::now();
+        engine.step();
+        seconds += start.elapsed().as_secs_f64();
+        observe(&engine);
+    }
+    (engine, seconds * 1e3 / scene.steps as f64)
+}
+
+/// Signed relative error, and a cell showing the value with it.
+fn relative(value: f64, exact: f64, unit: &str) -> (f64, String) {
+    let error = (value - exact) / exact;
+    (
+        error,
+        format!("{value:.4} {unit} ({:+.3} %)", error * 100.0),
+    )
+}
+
+/// C2: heights of the ball's bottom at the first three apexes. An apex is the highest
+/// sampled height of a rise (from the step the ball moves up to the step it stops rising);
+/// sampling at dt misses the true top by at most g·dt²/8 = 0.34 mm.
+fn bounce_apexes<E: Engine>(scene: &SceneDesc, radius: f64) -> (Vec<f64>, f64) {
+    let mut apexes = Vec::new();
+    let mut rising_max: Option<f64> = None;
+    let (_, ms) = run_observed::<E>(scene, |engine| {
+        let height = engine.position(1).y - radius;
+        let vy = engine.velocity(1).y;
+        match rising_max {
+            _ if vy > 0.0 => rising_max = Some(rising_max.map_or(height, |m| m.max(height))),
+            Some(top) => {
+                apexes.push(top.max(height));
+                rising_max = None;
+            }
+            None => {}
+        }
+    });
+    (apexes, ms)
+}
+
+fn bounce_rows() -> Vec<Row> {
+    const DROP: f64 = 5.0;
+    const RESTITUTION: f64 = 0.8;
+    let scene = scenes::bounce(DROP, RESTITUTION);
+    let (ours, ours_ms) = bounce_apexes::<Ours>(&scene, 0.5);
+    let (theirs, theirs_ms) = bounce_apexes::<Theirs>(&scene, 0.5);
+    (1..=3)
+        .map(|k| {
+            let exact = DROP * RESTITUTION.powi(2 * k as i32);
+            let cell = |apexes: &[f64]| match apexes.get(k - 1) {
+                Some(&h) => relative(h, exact, "m"),
+                None => (f64::NAN, "no apex".to_owned()),
+            };
+            let (ours_error, ours_cell) = cell(&ours);
+            let (theirs_error, theirs_cell) = cell(&theirs);
+            Row {
+                scene: format!("C2 bounce apex {k} (exact {exact:.4} m)"),
+                ours_ms,
+                theirs_ms,
+                ours_error: ours_cell,
+                theirs_error: theirs_cell,
+                error_ratio: ratio(ours_error, theirs_error).filter(|r| r.is_finite()),
+            }
+        })
+        .collect()
+}
+
+fn slide_row() -> Row {
+    const SPEED: f64 = 5.0;
+    const MU: f64 = 0.5;
+    let scene = scenes::slide(SPEED);
+    let exact = SPEED * SPEED / (2.0 * MU * GRAVITY);
+    let distance = |position: DVec3, speed: f64| {
+        let (error, cell) = relative(position.x - scene.bodies[1].position.x, exact, "m");
+        // A box still moving at the end has not stopped: say so rather than hide it.
+        let cell = if speed > 1e-3 {
+            format!("{cell}, still moving at {speed:.3} m/s")
+        } else {
+            cell
+        };
+        (error, cell)
+    };
+    let (ours, ours_ms) = run_observed::<Ours>(&scene, |_| {});
+    let (theirs, theirs_ms) = run_observed::<Theirs>(&scene, |_| {});
+    let (ours_error, ours_cell) = distance(ours.position(1), ours.velocity(1).length());
+    let (theirs_error, theirs_cell) = distance(theirs.position(1), theirs.velocity(1).length());
+    Row {
+        scene: format!("C4 slide, stopping distance (exact {exact:.4} m)"),
+        ours_ms,
+        theirs_ms,
+        ours_error: ours_cell,
+        theirs_error: theirs_cell,
+        error_ratio: ratio(ours_error, theirs_error),
+    }
+}
+
+fn roll_row() -> Row {
+    const SPEED: f64 = 3.0;
+    let scene = scenes::roll(SPEED);
+    let exact = 5.0 / 7.0 * SPEED;
+    let (ours, ours_ms) = run_observed::<Ours>(&scene, |_| {});
+    let (theirs, theirs_ms) = run_observed::<Theirs>(&scene, |_| {});
+    let speed = |v: DVec3| DVec3::new(v.x, 0.0, v.z).length();
+    let (ours_error, ours_cell) = relative(speed(ours.velocity(1)), exact, "m/s");
+    let (theirs_error, theirs_cell) = relative(speed(theirs.velocity(1)), exact, "m/s");
+    Row {
+        scene: format!("C6 rolling, final speed (exact {exact:.4} m/s)"),
+        ours_ms,
+        theirs_ms,
+        ours_error: ours_cell,
+        theirs_error: theirs_cell,
+        error_ratio: ratio(ours_error, theirs_error),
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Report.
+
+/// The version of a package as resolved in this crate's lock file.
+fn locked_version(package: &str) -> &'static str {
+    let lock = include_str!("../Cargo.lock");
+    let header = format!("name = \"{package}\"\nversion = \"");
+    lock.find(&header)
+        .map(|at| {
+            let rest = &lock[at + header.len()..];
+            &rest[..rest.find('"').unwrap_or(0)]
+        })
+        .unwrap_or("unknown")
+}
+
+fn details() -> String {
+    let ours = rigid::physics::World::default().settings;
+    let solver = ours.solver;
+    let sleep = ours.sleep;
+    let p = theirs::parameters();
+    let rayon_threads = std::env::var("RAYON_NUM_THREADS").unwrap_or_default();
+    format!(
+        "- Same bodies in both engines, built from one description in `peer/src/scenes.rs`; \
+         dt = 1/{:.0} s, gravity {GRAVITY} m/s².\n\
+         - rapier3d: crate `rapier3d-f64` {} (f64, as ours), default features (single-threaded: \
+         no `parallel`), stepped through `PhysicsWorld::step`.\n\
+         - Ours: `rigid` {}, f64, run with RAYON_NUM_THREADS={rayon_threads} so that both \
+         engines use one core.\n\
+         - Our settings (defaults): pipeline {:?}, {} substeps, contact {} Hz, damping ratio {}, \
+         push-out at most {} m/s, no bounce below {} m/s, integrator {:?}; sleeping {} \
+         (below {} m/s for {} s). A pair takes the smaller restitution and the geometric mean \
+         of the frictions.\n\
+         - rapier settings (`IntegrationParameters::default()` with dt): {} solver iterations \
+         (substeps), {} internal PGS iteration(s), {} stabilization iteration(s), contacts \
+         {} Hz / damping ratio {} ({} Hz against fixed bodies), warm start {}, friction model \
+         {:?}, allowed linear error {} m, prediction distance {} m, max corrective velocity {} \
+         m/s, CCD off (not enabled on any body); sleeping on (rapier's default thresholds: \
+         0.05 m/s, 0.5 rad/s, for 0.5 s). Its default combine rule for both coefficients is \
+         the average; every collider here is set to `{:?}` for restitution and `{:?}` for \
+         friction, which is what ours does, so mixed pairs get the same coefficients. In the \
+         C2, C4 and C6 cases both bodies have the same values, so any rule gives the same.\n\
+         - Times: wall time of the steps only (not the building), ms per step, median of \
+         {REPEATS} runs with the two engines taking turns; the C cases run once each. Errors: \
+         pyramid, the largest distance any box moved from its start; rain, bodies whose centre \
+         left the bin (should be 0) and the energy left at the end (kinetic + m g y above the \
+         floor) over the energy at the start (no exact answer: it only must not exceed 1); C \
+         cases, signed relative error against the analytic answer. Ratios are ours / rapier's, \
+         of times and of |errors|: above 1 means we are slower or less accurate.\n",
+        1.0 / DT,
+        locked_version("rapier3d-f64"),
+        locked_version("rigid"),
+        ours.pipeline,
+        solver.substeps,
+        solver.contact_hertz,
+        solver.damping_ratio,
+        solver.max_push_out,
+        solver.restitution_threshold,
+        ours.integrator,
+        if sleep.enabled { "on" } else { "off" },
+        sleep.sleep_speed,
+        sleep.time_to_sleep,
+        p.num_solver_iterations,
+        p.num_internal_pgs_iterations,
+        p.num_internal_stabilization_iterations,
+        p.contact_softness.natural_frequency,
+        p.contact_softness.damping_ratio,
+        p.static_contact_softness.natural_frequency,
+        p.warmstart_coefficient,
+        p.friction_model,
+        p.normalized_allowed_linear_error,
+        p.normalized_prediction_distance,
+        p.normalized_max_corrective_velocity,
+        theirs::RESTITUTION_RULE,
+        theirs::FRICTION_RULE,
+    )
+}
+
+fn table(rows: &[Row]) -> String {
+    let mut out = String::from(
+        "| scene | ours ms/step | rapier ms/step | time ratio | our error | rapier error | error ratio |\n\
+         |---|---|---|---|---|---|---|\n",
+    );
+    for row in rows {
+        let error_ratio = row
+            .error_ratio
+            .map_or("—".to_owned(), |r| format!("{r:.2}"));
+        out += &format!(
+            "| {} | {:.4} | {:.4} | {:.2} | {} | {} | {} |\n",
+            row.scene,
+            row.ours_ms,
+            row.theirs_ms,
+            row.ours_ms / row.theirs_ms,
+            row.ours_error,
+            row.theirs_error,
+            error_ratio,
+        );
+    }
+    out
+}
+
+/// Plain sentences on where we lose and where we win, read off the rows.
+fn notes(rows: &[Row]) -> String {
+    let list = |pick: &dyn Fn(&Row) -> Option<f64>| {
+        let items: Vec<String> = rows
+            .iter()
+            .filter_map(|row| pick(row).map(|r| format!("{} (×{r:.2})", row.scene)))
+            .collect();
+        if items.is_empty() {
+            "none".to_owned()
+        } else {
+            items.join("; ")
+        }
+    };
+    let time = |row: &Row| row.ours_ms / row.theirs_ms;
+    // Timing noise on a shared machine is a few per cent: only a 5 % gap counts.
+    let slower = list(&|row| Some(time(row)).filter(|&r| r > 1.05));
+    let faster = list(&|row| Some(1.0 / time(row)).filter(|&r| r > 1.05));
+    let worse = list(&|row| row.error_ratio.filter(|&r| r > 1.0));
+    let better = list(&|row| row.error_ratio.filter(|&r| r < 1.0).map(|r| 1.0 / r));
+    format!(
+        "- We are slower (ours / rapier's time) on: {slower}.\n\
+         - We are faster (rapier's / ours) on: {faster}.\n\
+         - We are less accurate (our |error| / rapier's) on: {worse}.\n\
+         - We are more accurate (rapier's |error| / ours) on: {better}.\n\
+         - The C cases are two-body scenes: their times measure per-step overhead, not \
+         contact solving at scale.\n"
+    )
+}
+
+fn main() {
+    // Our narrow phase spreads over rayon's threads; rapier here runs on one thread. Unless
+    // told otherwise, ours gets one thread too, so the times compare like with like.
+    if std::env::var_os("RAYON_NUM_THREADS").is_none() {
+        // SAFETY: nothing else runs yet: no thread can read the environment meanwhile.
+        unsafe { std::env::set_var("RAYON_NUM_THREADS", "1") };
+    }
+    // Progress goes to stderr, so that stdout stays the Markdown section alone.
+    eprintln!("pyramid…");
+    let mut rows = vec![pyramid_row()];
+    for count in [1000, 4000] {
+        eprintln!("rain {count}…");
+        rows.push(rain_row(count));
+    }
+    eprintln!("C2, C4, C6…");
+    rows.extend(bounce_rows());
+    rows.push(slide_row());
+    rows.push(roll_row());
+    println!("## Side by side with rapier3d\n");
+    println!("{}", details());
+    println!("{}", table(&rows));
+    println!("{}", notes(&rows));
+}

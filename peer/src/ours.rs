@@ -1,0 +1,82 @@
+//! Our engine (`rigid`) built from a shared scene description, at its default settings:
+//! the `soft` pipeline with 8 substeps, the midpoint integrator and sleeping on.
+
+use glam::DVec3;
+use rigid::physics::{BodyDesc, BodyId, EnvironmentForce, Material, Shape, World};
+
+use crate::Engine;
+use crate::scenes::{self, SceneDesc, ShapeDesc};
+
+pub struct Ours {
+    world: World,
+    /// Our id of each body of the description, in its order.
+    ids: Vec<BodyId>,
+}
+
+impl Engine for Ours {
+    fn build(scene: &SceneDesc) -> Self {
+        let mut world = World::default();
+        world.forces.push(EnvironmentForce::Gravity {
+            acceleration: DVec3::new(0.0, -scenes::GRAVITY, 0.0),
+        });
+        let ids = scene
+            .bodies
+            .iter()
+            .map(|b| {
+                let shape = match b.shape {
+                    ShapeDesc::Sphere { radius } => Shape::sphere(radius),
+                    ShapeDesc::Cuboid { half_extents } => Shape::cuboid(half_extents),
+                    ShapeDesc::Capsule {
+                        half_height,
+                        radius,
+                    } => Shape::capsule(half_height, radius),
+                    ShapeDesc::Cylinder {
+                        half_height,
+                        radius,
+                    } => Shape::cylinder(half_height, radius),
+                };
+                let desc = if b.fixed {
+                    BodyDesc::fixed(shape)
+                } else {
+                    BodyDesc::dynamic(shape)
+                };
+                let material = Material {
+                    density: b.material.density,
+                    restitution: b.material.restitution,
+                    friction: b.material.friction,
+                };
+                let desc = desc
+                    .at(b.position)
+                    .rotated(b.rotation)
+                    .with_velocity(b.velocity)
+                    .with_material(material);
+                world.add_body(desc).expect("scene bodies are valid")
+            })
+            .collect();
+        Ours { world, ids }
+    }
+
+    fn step(&mut self) {
+        self.world.step(scenes::DT);
+    }
+
+    fn position(&self, i: usize) -> DVec3 {
+        self.world.body(self.ids[i]).position
+    }
+
+    fn velocity(&self, i: usize) -> DVec3 {
+        self.world.body(self.ids[i]).velocity()
+    }
+
+    fn kinetic_energy(&self, i: usize) -> f64 {
+        self.world.body(self.ids[i]).kinetic_energy()
+    }
+
+    fn mass(&self, i: usize) -> f64 {
+        self.world.body(self.ids[i]).mass()
+    }
+
+    fn is_sleeping(&self, i: usize) -> bool {
+        self.world.body(self.ids[i]).sleeping
+    }
+}

@@ -1,0 +1,118 @@
+//! rapier3d (the `rapier3d-f64` crate: f64 throughout, like ours) built from the same scene
+//! description, at its default `IntegrationParameters` apart from dt.
+//!
+//! rapier's math is glam 0.33 (through `glamx`) and ours is glam 0.34: vectors cross over
+//! component by component.
+
+use glam::{DQuat, DVec3};
+use rapier3d_f64::math::{Pose, Rotation, Vector};
+use rapier3d_f64::prelude::{
+    CoefficientCombineRule, ColliderBuilder, IntegrationParameters, PhysicsWorld, RigidBodyBuilder,
+    RigidBodyHandle,
+};
+
+use crate::Engine;
+use crate::scenes::{self, SceneDesc, ShapeDesc};
+
+/// rapier combines a pair's coefficients with the rule of the two colliders (the larger
+/// rule wins), by default the average. Ours takes the smaller restitution and the geometric
+/// mean of the frictions; every rapier collider here is given those rules so both engines
+/// see the same contact coefficients in mixed scenes.
+pub const RESTITUTION_RULE: CoefficientCombineRule = CoefficientCombineRule::Min;
+pub const FRICTION_RULE: CoefficientCombineRule = CoefficientCombineRule::GeometricMean;
+
+/// The integration parameters used: rapier's defaults with the shared dt.
+pub fn parameters() -> IntegrationParameters {
+    IntegrationParameters {
+        dt: scenes::DT,
+        ..IntegrationParameters::default()
+    }
+}
+
+pub struct Theirs {
+    world: PhysicsWorld,
+    /// rapier's handle of each body of the description, in its order.
+    handles: Vec<RigidBodyHandle>,
+}
+
+fn to_rapier(v: DVec3) -> Vector {
+    Vector::new(v.x, v.y, v.z)
+}
+
+fn from_rapier(v: Vector) -> DVec3 {
+    DVec3::new(v.x, v.y, v.z)
+}
+
+fn rotation_to_rapier(q: DQuat) -> Rotation {
+    Rotation::from_xyzw(q.x, q.y, q.z, q.w)
+}
+
+impl Engine for Theirs {
+    fn build(scene: &SceneDesc) -> Self {
+        let mut world = PhysicsWorld {
+            gravity: Vector::new(0.0, -scenes::GRAVITY, 0.0),
+            integration_parameters: parameters(),
+            ..PhysicsWorld::default()
+        };
+        let handles = scene
+            .bodies
+            .iter()
+            .map(|b| {
+                let body = if b.fixed {
+                    RigidBodyBuilder::fixed()
+                } else {
+                    RigidBodyBuilder::dynamic()
+                };
+                let pose = Pose::from_parts(to_rapier(b.position), rotation_to_rapier(b.rotation));
+                let body = body.pose(pose).linvel(to_rapier(b.velocity));
+                let collider = match b.shape {
+                    ShapeDesc::Sphere { radius } => ColliderBuilder::ball(radius),
+                    ShapeDesc::Cuboid { half_extents: h } => ColliderBuilder::cuboid(h.x, h.y, h.z),
+                    ShapeDesc::Capsule {
+                        half_height,
+                        radius,
+                    } => ColliderBuilder::capsule_y(half_height, radius),
+                    ShapeDesc::Cylinder {
+                        half_height,
+                        radius,
+                    } => ColliderBuilder::cylinder(half_height, radius),
+                };
+                // The body's mass and inertia come from the collider's density, as ours do.
+                let collider = collider
+                    .density(b.material.density)
+                    .friction(b.material.friction)
+                    .restitution(b.material.restitution)
+                    .friction_combine_rule(FRICTION_RULE)
+                    .restitution_combine_rule(RESTITUTION_RULE);
+                world.insert(body, collider).0
+            })
+            .collect();
+        Theirs { world, handles }
+    }
+
+    fn step(&mut self) {
+        self.world.step();
+    }
+
+    fn position(&self, i: usize) -> DVec3 {
+        // The centre of mass, as ours reports (the same point as the body origin for these
+        // symmetric shapes).
+        from_rapier(self.world.bodies[self.handles[i]].center_of_mass())
+    }
+
+    fn velocity(&self, i: usize) -> DVec3 {
+        from_rapier(self.world.bodies[self.handles[i]].linvel())
+    }
+
+    fn kinetic_energy(&self, i: usize) -> f64 {
+        self.world.bodies[self.handles[i]].kinetic_energy()
+    }
+
+    fn mass(&self, i: usize) -> f64 {
+        self.world.bodies[self.handles[i]].mass()
+    }
+
+    fn is_sleeping(&self, i: usize) -> bool {
+        self.world.bodies[self.handles[i]].is_sleeping()
+    }
+}
