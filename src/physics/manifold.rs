@@ -104,6 +104,9 @@ struct Polyhedron {
     vertices: Vec<DVec3>,
     faces: Vec<Polygon>,
     edges: Vec<[u32; 2]>,
+    /// The two faces that meet at each edge; None where the faces do not say (a hand-built
+    /// hull whose loops do not close), and such an edge is left to the face axes.
+    edge_faces: Vec<Option<[usize; 2]>>,
     centroid: DVec3,
 }
 
@@ -148,7 +151,8 @@ impl Polyhedron {
                 normal,
             }
         };
-        let (vertices, faces, edges) = match posed.shape {
+        let (vertices, faces, edges): (Vec<DVec3>, Vec<Polygon>, Vec<[u32; 2]>) = match posed.shape
+        {
             Shape::Cuboid { half_extents } => {
                 let vertices: Vec<DVec3> = (0..8)
                     .map(|i| to_world(box_corner(*half_extents, i)))
@@ -171,10 +175,12 @@ impl Polyhedron {
             _ => return None,
         };
         let centroid = vertices.iter().sum::<DVec3>() / vertices.len() as f64;
+        let edge_faces = faces_at_edges(&faces, &edges);
         Some(Polyhedron {
             vertices,
             faces,
             edges,
+            edge_faces,
             centroid,
         })
     }
@@ -192,6 +198,33 @@ impl Polyhedron {
             .map(|v| v.distance(self.centroid))
             .fold(0.0, f64::max)
     }
+}
+
+/// For each edge, the two faces whose loops run along it (one each way).
+fn faces_at_edges(faces: &[Polygon], edges: &[[u32; 2]]) -> Vec<Option<[usize; 2]>> {
+    let mut sides: Vec<(u32, u32, usize)> = faces
+        .iter()
+        .enumerate()
+        .flat_map(|(f, face)| {
+            let n = face.vertices.len();
+            (0..n).map(move |k| {
+                let (i, j) = (face.vertices[k], face.vertices[(k + 1) % n]);
+                (i.min(j), i.max(j), f)
+            })
+        })
+        .collect();
+    sides.sort_unstable();
+    edges
+        .iter()
+        .map(|&[i, j]| {
+            let key = (i.min(j), i.max(j));
+            let start = sides.partition_point(|s| (s.0, s.1) < key);
+            match sides.get(start..start + 2) {
+                Some([x, y]) if (x.0, x.1) == key && (y.0, y.1) == key => Some([x.2, y.2]),
+                _ => None,
+            }
+        })
+        .collect()
 }
 
 fn box_corner(h: DVec3, i: u32) -> DVec3 {
@@ -290,39 +323,62 @@ fn best_face_axis(owner: &Polyhedron, other: &Polyhedron, of_a: bool) -> Axis {
 /// The edge pair with the largest separation along the cross product of the edges, among
 /// pairs where both edges are the supporting features along that axis (a real edge-edge
 /// configuration, not a parallel edge elsewhere on the shape).
+///
+/// Whether they are is read off the Gauss map, without touching any vertex: the normals of
+/// the two faces at an edge of A span an arc, those at an edge of B (negated) another, and
+/// the edges support the same axis exactly when the arcs cross (they make a face of the
+/// Minkowski difference). That keeps the test O(edges²) instead of O(edges² · vertices).
 fn best_edge_axis(a: &Polyhedron, b: &Polyhedron) -> Option<Axis> {
     let mut best: Option<Axis> = None;
-    let size = a.size().max(b.size());
     for (i, ea) in a.edges.iter().enumerate() {
+        let Some([fa0, fa1]) = a.edge_faces[i] else {
+            continue;
+        };
+        let (na, nb) = (a.faces[fa0].normal, a.faces[fa1].normal);
         let (a0, a1) = (a.vertices[ea[0] as usize], a.vertices[ea[1] as usize]);
         for (j, eb) in b.edges.iter().enumerate() {
+            let Some([fb0, fb1]) = b.edge_faces[j] else {
+                continue;
+            };
+            let (nc, nd) = (-b.faces[fb0].normal, -b.faces[fb1].normal);
+            if !arcs_cross(na, nb, nc, nd) {
+                continue;
+            }
             let (b0, b1) = (b.vertices[eb[0] as usize], b.vertices[eb[1] as usize]);
             let cross = (a1 - a0).cross(b1 - b0);
             let length = cross.length();
             if length <= 1e-9 * (a1 - a0).length() * (b1 - b0).length() {
                 continue; // parallel edges: covered by the face axes
             }
-            // Either orientation may be the one from A to B; the right one separates more.
-            for axis in [cross / length, -cross / length] {
-                let reach_a = a.support_value(axis);
-                let reach_b = -b.support_value(-axis);
-                let supporting = 1e-9 * size;
-                if reach_a - axis.dot(a0) > supporting || axis.dot(b0) - reach_b > supporting {
-                    continue;
-                }
-                let separation = reach_b - reach_a;
-                if best.is_none_or(|current| separation > current.separation()) {
-                    best = Some(Axis::Edges {
-                        edge_a: i,
-                        edge_b: j,
-                        axis,
-                        separation,
-                    });
-                }
+            // The axis points out of A at its edge (A is convex: away from its centroid).
+            let mut axis = cross / length;
+            if axis.dot(a0 - a.centroid) < 0.0 {
+                axis = -axis;
+            }
+            let separation = axis.dot(b0 - a0);
+            if best.is_none_or(|current| separation > current.separation()) {
+                best = Some(Axis::Edges {
+                    edge_a: i,
+                    edge_b: j,
+                    axis,
+                    separation,
+                });
             }
         }
     }
     best
+}
+
+/// True when the great arc from `a` to `b` crosses the arc from `c` to `d` on the unit sphere
+/// (each arc shorter than a half circle, as the normals at a convex edge are).
+fn arcs_cross(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
+    let b_x_a = b.cross(a);
+    let d_x_c = d.cross(c);
+    let (cba, dba) = (c.dot(b_x_a), d.dot(b_x_a));
+    let (adc, bdc) = (a.dot(d_x_c), b.dot(d_x_c));
+    // c and d on opposite sides of a–b's plane, a and b on opposite sides of c–d's, and
+    // both arcs in the same hemisphere.
+    cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0
 }
 
 /// Feature ids: a face index, a vertex index or an edge index, tagged so they never collide.
