@@ -13,3 +13,5 @@ pub mod scene;
 pub mod sim;
 #[cfg(feature = "viewer")]
 pub mod ui;
+#[cfg(all(feature = "viewer", target_arch = "wasm32"))]
+pub mod web;

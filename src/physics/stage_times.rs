@@ -3,7 +3,7 @@
 //! every time reads 0.
 
 #[cfg(not(target_arch = "wasm32"))]
-use std::time::Instant;
+use web_time::Instant;
 
 /// Seconds spent in each stage of the last step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -33,28 +33,29 @@ impl Gpu {
             apply_limit_buckets: false,
         }))
         .map_err(|e| no_adapter_message(&e.to_string()))?;
-        Self::with_adapter(instance, adapter)
+        pollster::block_on(Self::with_adapter(instance, adapter))
     }
 
     /// A device that can present to `window`, and the window's surface (not yet configured).
-    pub fn for_window(window: Arc<Window>) -> Result<(Gpu, WindowSurface), String> {
-        // The GL backend needs the display handle at instance creation to share it with EGL.
-        let instance = wgpu::Instance::new(
-            wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(window.clone())),
-        );
+    /// Asynchronous because the browser answers adapter and device requests later; native
+    /// callers block on it.
+    pub async fn for_window(window: Arc<Window>) -> Result<(Gpu, WindowSurface), String> {
+        let instance = window_instance(&window).await;
         let surface = instance
             .create_surface(window)
-            .map_err(|e| format!("cannot create a surface for the window: {e}"))?;
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: Some(&surface),
-            apply_limit_buckets: false,
-        }))
-        .map_err(|e| no_adapter_message(&e.to_string()))?;
+            .map_err(|e| no_surface_message(&e.to_string()))?;
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: Some(&surface),
+                apply_limit_buckets: false,
+            })
+            .await
+            .map_err(|e| no_adapter_message(&e.to_string()))?;
         let format = pick_surface_format(&surface.get_capabilities(&adapter).formats)
             .ok_or("the surface supports no colour format this viewer can draw to")?;
-        let gpu = Self::with_adapter(instance, adapter)?;
+        let gpu = Self::with_adapter(instance, adapter).await?;
         Ok((
             gpu,
             WindowSurface {
@@ -65,15 +66,25 @@ impl Gpu {
         ))
     }
 
-    fn with_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Gpu, String> {
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("rigid"),
-            // Software adapters and GL offer little; ask for what they all have.
-            required_limits:
-                wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits()),
-            ..Default::default()
-        }))
-        .map_err(|e| format!("cannot open a device on the graphics adapter: {e}"))?;
+    async fn with_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Gpu, String> {
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("rigid"),
+                // Software adapters, GL and WebGL2 offer little; ask for what they all have.
+                required_limits: wgpu::Limits::downlevel_webgl2_defaults()
+                    .using_resolution(adapter.limits()),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| format!("cannot open a device on the graphics adapter: {e}"))?;
+        // A browser can take the device away (its GPU process restarted); say so on the page
+        // rather than fail later on a dead device.
+        #[cfg(target_arch = "wasm32")]
+        device.set_device_lost_callback(|reason, message| {
+            crate::web::show_failure(&format!(
+                "The graphics device was lost ({reason:?}): {message}. Reload the page."
+            ))
+        });
         Ok(Gpu {
             instance,
             adapter,
@@ -112,6 +123,24 @@ impl WindowSurface {
     }
 }
 
+/// The instance for a window. The GL backend needs the display handle at instance creation
+/// to share it with EGL; `WGPU_BACKEND` picks a backend.
+#[cfg(not(target_arch = "wasm32"))]
+async fn window_instance(window: &Arc<Window>) -> wgpu::Instance {
+    wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
+        Box::new(window.clone()),
+    ))
+}
+
+/// In the browser: WebGPU where the browser really offers an adapter, WebGL2 otherwise (or
+/// when the page asks for one backend, see `web::requested_backends`).
+#[cfg(target_arch = "wasm32")]
+async fn window_instance(_window: &Arc<Window>) -> wgpu::Instance {
+    let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
+    descriptor.backends = crate::web::requested_backends();
+    wgpu::util::new_instance_with_webgpu_detection(descriptor).await
+}
+
 /// egui and our shaders write gamma-encoded colours: prefer a non-sRGB 8-bit format.
 fn pick_surface_format(formats: &[wgpu::TextureFormat]) -> Option<wgpu::TextureFormat> {
     let preferred = [
@@ -124,10 +153,30 @@ fn pick_surface_format(formats: &[wgpu::TextureFormat]) -> Option<wgpu::TextureF
         .or_else(|| formats.first().copied())
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn no_adapter_message(detail: &str) -> String {
     format!(
         "no graphics adapter found ({detail}). Without a GPU install a software one: \
          `apt-get install mesa-vulkan-drivers libvulkan1` (lavapipe), or use the GL backend \
          with Mesa llvmpipe (WGPU_BACKEND=gl)"
+    )
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn no_surface_message(detail: &str) -> String {
+    format!("cannot create a surface for the window: {detail}")
+}
+
+/// In the browser a canvas without a surface means it has no WebGL2 (and no WebGPU).
+#[cfg(target_arch = "wasm32")]
+fn no_surface_message(detail: &str) -> String {
+    no_adapter_message(detail)
+}
+
+#[cfg(target_arch = "wasm32")]
+fn no_adapter_message(detail: &str) -> String {
+    format!(
+        "this browser offers neither WebGPU nor WebGL2 ({detail}). Try a current Chrome, \
+         Edge, Firefox or Safari, with hardware acceleration switched on"
     )
 }

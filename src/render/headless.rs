@@ -1,7 +1,7 @@
 //! Rendering without a window: step a scene, draw the newest snapshot offscreen, return the
 //! image. Used by `rigid render` and by the render tests.
 
-use std::time::Instant;
+use web_time::Instant;
 
 use image::RgbaImage;
 

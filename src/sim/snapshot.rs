@@ -2,7 +2,7 @@
 //! renderer and UI read without touching the `World`.
 
 use std::sync::Arc;
-use std::time::Instant;
+use web_time::Instant;
 
 use glam::{Quat, Vec3};
 

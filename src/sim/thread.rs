@@ -1,28 +1,22 @@
-//! The fixed-dt loop on its own thread. Wall time, scaled by the time scale, fills an
-//! accumulator that is spent in steps of exactly `dt`; a snapshot is published after each
-//! batch. The loop sleeps on the command queue, so commands are applied at once.
+//! The simulation thread: the fixed-dt clock (`fixed_step`) on a thread of its own. It
+//! sleeps on the command queue until the next step is due, so commands are applied at once;
+//! a snapshot is published after each batch.
 
-use std::panic::{self, AssertUnwindSafe};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+
+use web_time::{Duration, Instant};
 
 use crate::sim::command::Command;
+use crate::sim::fixed_step::{FixedStepClock, guarded};
 use crate::sim::simulation::Simulation;
 use crate::sim::snapshot::Snapshot;
-
-/// Most steps taken in one batch: when the machine cannot keep up, simulated time slows
-/// down instead of the loop falling further and further behind.
-const MAX_STEPS_PER_BATCH: u32 = 64;
 
 /// Most wall time spent stepping before commands are read and a snapshot is published: with
 /// thousands of awake bodies a step can take tens of milliseconds, and the viewer must still
 /// see its commands (pause, reset) applied at once.
 const MAX_BATCH_WALL_TIME: Duration = Duration::from_millis(50);
-
-/// How long the loop sleeps when there is nothing to step (paused or time scale 0).
-const IDLE_WAIT: Duration = Duration::from_millis(50);
 
 /// The newest snapshot, replaced by each publish (latest wins; nobody queues old ones).
 pub type SnapshotSlot = Arc<Mutex<Option<Arc<Snapshot>>>>;
@@ -65,6 +59,9 @@ impl SimHandle {
     pub fn latest(&self) -> Option<Arc<Snapshot>> {
         self.latest.lock().ok().and_then(|slot| slot.clone())
     }
+
+    /// Nothing to do: the thread steps on its own. (The browser's `FrameLoop` steps here.)
+    pub fn pump(&self) {}
 }
 
 impl Drop for SimHandle {
@@ -77,11 +74,10 @@ impl Drop for SimHandle {
 }
 
 fn run(mut sim: Simulation, inbox: Receiver<Command>, slot: SnapshotSlot) {
-    let mut accumulator = 0.0;
-    let mut last = Instant::now();
+    let mut clock = FixedStepClock::new(Instant::now());
     loop {
         let mut changed = false;
-        match inbox.recv_timeout(wait_for_next_step(&sim, accumulator)) {
+        match inbox.recv_timeout(clock.wait_for_next_step(&sim)) {
             Ok(command) => {
                 if guarded(&mut sim, |sim| apply_all(sim, command, &inbox)) == Some(false) {
                     return;
@@ -91,50 +87,9 @@ fn run(mut sim: Simulation, inbox: Receiver<Command>, slot: SnapshotSlot) {
             Err(RecvTimeoutError::Timeout) => {}
             Err(RecvTimeoutError::Disconnected) => return,
         }
-        let now = Instant::now();
-        let settings = *sim.settings();
-        if settings.paused {
-            accumulator = 0.0;
-        } else {
-            accumulator += (now - last).as_secs_f64() * settings.time_scale;
-        }
-        last = now;
-        let mut steps = 0;
-        let batch_started = Instant::now();
-        while accumulator >= settings.dt
-            && steps < MAX_STEPS_PER_BATCH
-            && batch_started.elapsed() < MAX_BATCH_WALL_TIME
-        {
-            if guarded(&mut sim, Simulation::step).is_none() {
-                changed = true;
-                break;
-            }
-            accumulator -= settings.dt;
-            steps += 1;
-        }
-        // Behind the wall clock: drop the backlog rather than chase it.
-        if accumulator >= settings.dt {
-            accumulator = 0.0;
-        }
-        if steps > 0 || changed {
+        let batch = clock.advance(&mut sim, MAX_BATCH_WALL_TIME);
+        if batch.steps > 0 || batch.failed || changed {
             publish(&sim, &slot);
-        }
-    }
-}
-
-/// Runs `work` on the simulation; a panic inside it stops the simulation with the panic's
-/// message (shown by the viewer) instead of ending the thread, and gives `None`.
-fn guarded<T>(sim: &mut Simulation, work: impl FnOnce(&mut Simulation) -> T) -> Option<T> {
-    match panic::catch_unwind(AssertUnwindSafe(|| work(sim))) {
-        Ok(value) => Some(value),
-        Err(payload) => {
-            let cause = payload
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "a panic".to_string());
-            sim.fail(&cause);
-            None
         }
     }
 }
@@ -150,15 +105,6 @@ fn apply_all(sim: &mut Simulation, first: Command, inbox: &Receiver<Command>) ->
         }
     }
     true
-}
-
-fn wait_for_next_step(sim: &Simulation, accumulator: f64) -> Duration {
-    let s = sim.settings();
-    if s.paused || s.time_scale <= 0.0 {
-        return IDLE_WAIT;
-    }
-    let wall = (s.dt - accumulator).max(0.0) / s.time_scale;
-    Duration::from_secs_f64(wall).min(IDLE_WAIT)
 }
 
 fn publish(sim: &Simulation, slot: &SnapshotSlot) {

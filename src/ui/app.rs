@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Instant;
+use web_time::Instant;
 
 use glam::Vec2;
 use winit::application::ApplicationHandler;
@@ -14,7 +14,7 @@ use winit::window::{Window, WindowId};
 
 use crate::render::{FrameInput, OrbitCamera, Ray, Viewport};
 use crate::sim::snapshot::BodyPose;
-use crate::sim::{CameraHint, Command, Recording, SimHandle, Simulation, Snapshot};
+use crate::sim::{CameraHint, Command, Driver, Recording, Simulation, Snapshot};
 use crate::ui::display::{Display, UiFrame};
 use crate::ui::drag::Drag;
 use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel};
@@ -31,21 +31,58 @@ pub struct AppOptions {
 }
 
 /// Opens the viewer window and runs until it is closed (or `exit_after` passes).
+#[cfg(not(target_arch = "wasm32"))]
 pub fn run(options: AppOptions) -> Result<(), String> {
-    let simulation = match &options.replay {
-        Some(path) => Simulation::replaying(&Recording::load(path)?)?,
-        None => Simulation::new(&options.scene)?,
-    };
-    let sim = SimHandle::start(simulation)?;
-    let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e}"))?;
+    let (event_loop, mut app) = prepare(options)?;
     // Redraw continuously: the simulation moves whether or not there is input.
     event_loop.set_control_flow(ControlFlow::Poll);
-    let mut app = App::new(options, sim);
     event_loop
         .run_app(&mut app)
         .map_err(|e| format!("event loop: {e}"))?;
     app.result
 }
+
+/// Starts the viewer in the page (`web/index.html`) on the scene its address names, and
+/// returns: the browser runs the event loop. Failures, panics included, are shown on the
+/// page instead of leaving it blank.
+#[cfg(target_arch = "wasm32")]
+pub fn run_in_browser() {
+    use winit::platform::web::EventLoopExtWebSys;
+    std::panic::set_hook(Box::new(|info| {
+        console_error_panic_hook::hook(info);
+        crate::web::show_failure(&format!("The viewer stopped: {info}"));
+    }));
+    let options = AppOptions {
+        scene: crate::web::requested_scene(),
+        exit_after: None,
+        screenshot: None,
+        replay: None,
+    };
+    match prepare(options) {
+        // Each redraw asks for the next one, so frames follow the page's refresh rate.
+        Ok((event_loop, app)) => {
+            event_loop.set_control_flow(ControlFlow::Wait);
+            event_loop.spawn_app(app)
+        }
+        Err(e) => crate::web::show_failure(&e),
+    }
+}
+
+/// The simulation and the event loop, before any window exists.
+fn prepare(options: AppOptions) -> Result<(EventLoop<()>, App), String> {
+    let simulation = match &options.replay {
+        Some(path) => Simulation::replaying(&Recording::load(path)?)?,
+        None => Simulation::new(&options.scene)?,
+    };
+    let sim = Driver::start(simulation)?;
+    let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e}"))?;
+    Ok((event_loop, App::new(options, sim)))
+}
+
+/// In the browser the device is created asynchronously: it lands here, and the next event
+/// installs it.
+#[cfg(target_arch = "wasm32")]
+type PendingDisplay = std::rc::Rc<std::cell::RefCell<Option<Result<Display, String>>>>;
 
 /// Mouse state between events: where the cursor is and what a held button does.
 #[derive(Default)]
@@ -58,8 +95,11 @@ struct Mouse {
 
 struct App {
     options: AppOptions,
-    sim: SimHandle,
+    sim: Driver,
     display: Option<Display>,
+    window_created: bool,
+    #[cfg(target_arch = "wasm32")]
+    pending_display: PendingDisplay,
     egui_ctx: egui::Context,
     egui_state: Option<egui_winit::State>,
     panel: Panel,
@@ -76,7 +116,7 @@ struct App {
 }
 
 impl App {
-    fn new(options: AppOptions, sim: SimHandle) -> App {
+    fn new(options: AppOptions, sim: Driver) -> App {
         let camera = OrbitCamera::from_hint(&CameraHint {
             eye: glam::Vec3::new(0.0, 3.0, 8.0),
             target: glam::Vec3::ZERO,
@@ -85,6 +125,9 @@ impl App {
             options,
             sim,
             display: None,
+            window_created: false,
+            #[cfg(target_arch = "wasm32")]
+            pending_display: PendingDisplay::default(),
             egui_ctx: egui::Context::default(),
             egui_state: None,
             panel: Panel::default(),
@@ -101,6 +144,8 @@ impl App {
     }
 
     fn fail(&mut self, event_loop: &ActiveEventLoop, message: String) {
+        #[cfg(target_arch = "wasm32")]
+        crate::web::show_failure(&message);
         self.result = Err(message);
         event_loop.exit();
     }
@@ -200,6 +245,7 @@ impl App {
 
     /// Runs the panel, applies the drag spring and draws one frame.
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
+        self.sim.pump();
         let Some(snapshot) = self.sim.latest() else {
             return;
         };
@@ -254,6 +300,8 @@ impl App {
             Ok(None) => {}
             Err(e) => return self.fail(event_loop, e),
         }
+        #[cfg(target_arch = "wasm32")]
+        crate::web::publish_status(&snapshot, &display.describe());
         if exiting {
             event_loop.exit();
         }
@@ -300,29 +348,19 @@ impl App {
         };
         (frame, commands)
     }
-}
 
-impl ApplicationHandler for App {
-    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
-        if self.display.is_some() {
-            return;
-        }
-        let attributes = Window::default_attributes()
-            .with_title("rigid")
-            .with_inner_size(winit::dpi::LogicalSize::new(1280.0, 720.0));
-        let window = match event_loop.create_window(attributes) {
-            Ok(window) => Arc::new(window),
-            Err(e) => return self.fail(event_loop, format!("cannot create the window: {e}")),
-        };
-        let display = match Display::new(window.clone()) {
+    /// Takes the window's device, or fails the viewer with the reason there is none.
+    fn install_display(&mut self, event_loop: &ActiveEventLoop, display: Result<Display, String>) {
+        let display = match display {
             Ok(display) => display,
             Err(e) => return self.fail(event_loop, e),
         };
         eprintln!("rigid: rendering on {}", display.describe());
+        let window = &display.window;
         self.egui_state = Some(egui_winit::State::new(
             self.egui_ctx.clone(),
             egui::ViewportId::ROOT,
-            &window,
+            window,
             Some(window.scale_factor() as f32),
             None,
             Some(display.max_texture_side()),
@@ -331,7 +369,58 @@ impl ApplicationHandler for App {
         self.started = Instant::now();
     }
 
+    #[cfg(target_arch = "wasm32")]
+    fn install_pending_display(&mut self, event_loop: &ActiveEventLoop) {
+        let pending = self.pending_display.borrow_mut().take();
+        if let Some(display) = pending {
+            self.install_display(event_loop, display);
+        }
+    }
+}
+
+/// A 1280×720 window on the desktop; in the browser, the page's canvas, sized by its CSS.
+fn window_attributes() -> winit::window::WindowAttributes {
+    let attributes = Window::default_attributes().with_title("rigid");
+    #[cfg(not(target_arch = "wasm32"))]
+    return attributes.with_inner_size(winit::dpi::LogicalSize::new(1280.0, 720.0));
+    #[cfg(target_arch = "wasm32")]
+    {
+        use winit::platform::web::WindowAttributesExtWebSys;
+        attributes
+            .with_canvas(crate::web::canvas())
+            .with_prevent_default(true)
+            .with_focusable(true)
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        // Resumed comes again (a page shown again, an app brought back): one window is
+        // enough, also while the browser is still creating its device.
+        if self.window_created {
+            return;
+        }
+        self.window_created = true;
+        let window = match event_loop.create_window(window_attributes()) {
+            Ok(window) => Arc::new(window),
+            Err(e) => return self.fail(event_loop, format!("cannot create the window: {e}")),
+        };
+        #[cfg(not(target_arch = "wasm32"))]
+        self.install_display(event_loop, pollster::block_on(Display::new(window)));
+        #[cfg(target_arch = "wasm32")]
+        {
+            let pending = self.pending_display.clone();
+            wasm_bindgen_futures::spawn_local(async move {
+                let display = Display::new(window.clone()).await;
+                *pending.borrow_mut() = Some(display);
+                window.request_redraw();
+            });
+        }
+    }
+
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        #[cfg(target_arch = "wasm32")]
+        self.install_pending_display(event_loop);
         let (Some(display), Some(state)) = (self.display.as_mut(), self.egui_state.as_mut()) else {
             return;
         };
@@ -366,6 +455,8 @@ impl ApplicationHandler for App {
     }
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        #[cfg(target_arch = "wasm32")]
+        self.install_pending_display(event_loop);
         match &self.display {
             Some(display) => display.window.request_redraw(),
             // No window to draw in (never created): the exit timer still applies.

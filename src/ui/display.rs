@@ -29,8 +29,8 @@ pub struct Display {
 }
 
 impl Display {
-    pub fn new(window: Arc<Window>) -> Result<Display, String> {
-        let (gpu, mut surface) = Gpu::for_window(window.clone())?;
+    pub async fn new(window: Arc<Window>) -> Result<Display, String> {
+        let (gpu, mut surface) = Gpu::for_window(window.clone()).await?;
         let size = window.inner_size();
         surface.resize(&gpu, size.width, size.height);
         let scene = SceneRenderer::new(&gpu, surface.format);

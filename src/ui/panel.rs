@@ -1,8 +1,6 @@
 //! The control panel on the left: scene, time, spawning, world settings, overlays, counters
 //! and plots. It turns widget changes into simulation commands and never touches the world.
 
-use std::path::PathBuf;
-
 use glam::DVec3;
 
 use crate::physics::{BroadPhaseKind, Integrator, Pipeline, StageTimes};
@@ -14,7 +12,9 @@ pub const PANEL_WIDTH: f32 = 290.0;
 
 /// Where the panel's buttons save (and load) the world and the session's recording, relative
 /// to the directory the viewer was started in.
+#[cfg(not(target_arch = "wasm32"))]
 const SAVED_WORLD_FILE: &str = "rigid-world.ron";
+#[cfg(not(target_arch = "wasm32"))]
 const RECORDING_FILE: &str = "rigid-recording.ron";
 
 /// Rates measured on the render side.
@@ -148,31 +148,8 @@ impl Panel {
                 out.push(Command::Reset);
             }
         });
-        ui.horizontal(|ui| {
-            let world = PathBuf::from(SAVED_WORLD_FILE);
-            if ui
-                .button("Save world")
-                .on_hover_text(SAVED_WORLD_FILE)
-                .clicked()
-            {
-                out.push(Command::SaveWorld(world.clone()));
-            }
-            if ui
-                .button("Load world")
-                .on_hover_text(SAVED_WORLD_FILE)
-                .clicked()
-            {
-                out.push(Command::LoadWorld(world));
-            }
-            let recording = "replay with: rigid --replay rigid-recording.ron";
-            if ui
-                .button("Save recording")
-                .on_hover_text(recording)
-                .clicked()
-            {
-                out.push(Command::SaveRecording(PathBuf::from(RECORDING_FILE)));
-            }
-        });
+        #[cfg(not(target_arch = "wasm32"))]
+        files_row(ui, out);
     }
 
     fn time_section(&mut self, ui: &mut egui::Ui, out: &mut Vec<Command>) {
@@ -300,6 +277,38 @@ impl Panel {
 }
 
 /// The last step's stages in microseconds: broad, narrow, islands, solve.
+/// Save and load buttons, for a viewer with a file system (not the browser's).
+#[cfg(not(target_arch = "wasm32"))]
+fn files_row(ui: &mut egui::Ui, out: &mut Vec<Command>) {
+    ui.horizontal(|ui| {
+        let world = std::path::PathBuf::from(SAVED_WORLD_FILE);
+        if ui
+            .button("Save world")
+            .on_hover_text(SAVED_WORLD_FILE)
+            .clicked()
+        {
+            out.push(Command::SaveWorld(world.clone()));
+        }
+        if ui
+            .button("Load world")
+            .on_hover_text(SAVED_WORLD_FILE)
+            .clicked()
+        {
+            out.push(Command::LoadWorld(world));
+        }
+        let recording = "replay with: rigid --replay rigid-recording.ron";
+        if ui
+            .button("Save recording")
+            .on_hover_text(recording)
+            .clicked()
+        {
+            out.push(Command::SaveRecording(std::path::PathBuf::from(
+                RECORDING_FILE,
+            )));
+        }
+    });
+}
+
 fn stage_times(s: &StageTimes) -> String {
     let us = |seconds: f64| seconds * 1e6;
     format!(
