@@ -116,6 +116,93 @@ fn hulls_match_golden() {
 }
 
 #[test]
+fn bounce_stack_spin_and_rain_match_goldens() {
+    let gpu = gpu();
+    for scene in ["bounce", "stack", "dzhanibekov", "rain"] {
+        check_golden(
+            scene,
+            &render(&gpu, &simulate(scene, 30), Overlays::default()),
+        );
+    }
+}
+
+/// The pyramid once every box sleeps, in the sleep colour: a golden that fails if the tint
+/// is lost.
+#[test]
+fn sleeping_pyramid_matches_golden() {
+    let gpu = gpu();
+    let snapshot = simulate("pyramid", 1200);
+    let dynamic: Vec<_> = snapshot.bodies.iter().filter(|b| b.is_dynamic).collect();
+    assert_eq!(dynamic.len(), 210);
+    let awake = dynamic.iter().filter(|b| !b.sleeping).count();
+    assert_eq!(awake, 0, "{awake} boxes still awake after 1200 steps");
+    let image = render(&gpu, &snapshot, Overlays::default());
+    let region = ((0.0, 0.0), (SIZE.0 as f32, SIZE.1 as f32));
+    assert!(
+        count_sleep_hue(&image, region) > 5000,
+        "the sleeping pyramid is not drawn in the sleep colour"
+    );
+    check_golden("pyramid_asleep", &image);
+}
+
+#[test]
+fn contact_overlay_draws_the_contact_normals_only_when_on() {
+    let gpu = gpu();
+    let snapshot = simulate("pachinko", 240);
+    let normal_colour = snapshot
+        .lines
+        .last()
+        .expect("balls touch pins after 2 s")
+        .color;
+    let on = Overlays {
+        contacts: true,
+        ..Overlays::default()
+    };
+    let off = Overlays {
+        contacts: false,
+        ..Overlays::default()
+    };
+    let with = count_near(&render(&gpu, &snapshot, on), normal_colour);
+    let without = count_near(&render(&gpu, &snapshot, off), normal_colour);
+    assert!(
+        with > without + 100,
+        "contact overlay drew {with} pixels of the normal colour, {without} without it"
+    );
+}
+
+/// `rigid render` draws what the library draws: its PNG matches the same golden.
+#[test]
+fn the_render_command_writes_the_scene_as_a_png() {
+    let output_path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("render-command.png");
+    let _ = std::fs::remove_file(&output_path);
+    let (width, height) = (SIZE.0.to_string(), SIZE.1.to_string());
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_rigid"))
+        .arg("render")
+        .arg(&output_path)
+        .args(["--scene", "pachinko", "--steps", "30"])
+        .args(["--width", &width, "--height", &height])
+        .output()
+        .expect("run rigid render");
+    assert!(
+        run.status.success(),
+        "rigid render failed: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let image = image::open(&output_path).expect("a PNG").to_rgba8();
+    check_golden("pachinko", &image);
+
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_rigid"))
+        .arg("render")
+        .arg(&output_path)
+        .args(["--scene", "no_such_scene"])
+        .output()
+        .expect("run rigid render");
+    assert!(!bad.status.success());
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(stderr.contains("no_such_scene"), "{stderr}");
+}
+
+#[test]
 fn overlays_match_golden() {
     let gpu = gpu();
     let overlays = Overlays {

@@ -75,6 +75,8 @@ pub struct World {
     /// The force list as the last step saw it: an edit wakes every body.
     forces_seen: Vec<EnvironmentForce>,
     awake: usize,
+    /// Pairs the last forward step's broad phase handed to the narrow phase.
+    pairs: usize,
     classic_report: ClassicReport,
     stage_times: StageTimes,
     /// Environmental forces, applied to every dynamic body each step. Edit freely.
@@ -140,6 +142,7 @@ impl World {
             contact_cache: ContactCache::default(),
             forces_seen: Vec::new(),
             awake: 0,
+            pairs: 0,
             classic_report: ClassicReport::default(),
             stage_times: StageTimes::default(),
             forces: Vec::new(),
@@ -280,6 +283,7 @@ impl World {
         if dt >= 0.0 {
             self.wake_on_user_input(&touched);
             let pairs = self.broad_phase(dt, &touched);
+            self.pairs = pairs.len();
             times.broad_phase = clock.lap();
             self.manifolds = narrow_phase::find_manifolds(&self.bodies, &pairs, dt);
             times.narrow_phase = clock.lap();
@@ -366,6 +370,11 @@ impl World {
     /// Dynamic bodies that were awake in the last step.
     pub fn awake_count(&self) -> usize {
         self.awake
+    }
+
+    /// Candidate pairs of the last forward step's broad phase (overlapping fattened boxes).
+    pub fn pair_count(&self) -> usize {
+        self.pairs
     }
 
     /// A changed force list wakes every body; a force a user put on a sleeping body wakes it.

@@ -9,14 +9,15 @@ use web_time::{Duration, Instant};
 
 use glam::{DVec3, Vec3};
 
-use crate::physics::{Aabb, BodyId, EnvironmentForce, Material, Motion, RigidBody, World};
+use crate::physics::{Aabb, BodyId, EnvironmentForce, Fault, Material, Motion, RigidBody, World};
 use crate::scene::MAX_BODIES;
 use crate::sim::command::{Command, SpawnKind};
 use crate::sim::recording::{RecordedCommand, Recording};
 use crate::sim::saved_world::SavedWorld;
 use crate::sim::scenes::{self, CameraHint};
 use crate::sim::snapshot::{
-    BodyPose, BodyState, Counters, HistorySample, LineSegment, ShapeTable, SimSettings, Snapshot,
+    BodyPose, BodyState, Counters, HistorySample, LineSegment, MAX_FAULTS_SHOWN, ShapeTable,
+    SimSettings, Snapshot,
 };
 use crate::sim::spawn;
 
@@ -251,7 +252,10 @@ impl Simulation {
             .enumerate()
             .map(|(i, body)| {
                 let hidden = self.hidden.get(i).copied().unwrap_or(false);
-                let visible = !hidden && body.motion != Motion::Removed;
+                // An isolated body's state is not finite: there is nothing to draw (the panel
+                // lists it among the faults).
+                let gone = matches!(body.motion, Motion::Removed | Motion::Isolated);
+                let visible = !hidden && !gone;
                 body_state(body, self.previous[i], self.shape_ids[i], visible)
             })
             .collect();
@@ -272,6 +276,8 @@ impl Simulation {
             history: self.history.iter().copied().collect(),
             settings: self.settings,
             message: self.message.clone(),
+            faults: newest_faults(self.world.faults()),
+            fault_count: self.world.faults().len(),
             published_at,
             step_interval,
         }
@@ -297,6 +303,7 @@ impl Simulation {
             step_wall_time: self.rate.mean_step,
             bodies: self.world.bodies().len(),
             awake: self.world.awake_count(),
+            pairs: self.world.pair_count(),
             contacts: self.world.contacts().iter().map(|m| m.contacts.len()).sum(),
             max_penetration: self.world.max_penetration(),
             stages: self.world.stage_times(),
@@ -502,6 +509,10 @@ fn pose_of(body: &RigidBody) -> BodyPose {
     }
 }
 
+fn newest_faults(faults: &[Fault]) -> Vec<Fault> {
+    faults[faults.len().saturating_sub(MAX_FAULTS_SHOWN)..].to_vec()
+}
+
 fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32, visible: bool) -> BodyState {
     let min = DVec3::new(
         body.world_support(-DVec3::X).x,
@@ -636,6 +647,51 @@ mod tests {
         }
         let pushed = &world.bodies()[top];
         assert!(pushed.is_finite() || world.faults().iter().any(|f| f.body.index() == top));
+    }
+
+    #[test]
+    fn a_body_gone_non_finite_is_reported_and_not_drawn() {
+        let mut sim = Simulation::new("stack").unwrap();
+        let top = sim.world().bodies().len() - 1;
+        // The commands refuse non-finite pushes; a force set on the world goes through.
+        sim.world
+            .body_mut(BodyId(top as u32))
+            .apply_force(DVec3::new(f64::NAN, 0.0, 0.0));
+        sim.step();
+        let shown = sim.snapshot(Instant::now());
+        assert_eq!(shown.fault_count, 1);
+        assert_eq!(shown.faults.len(), 1);
+        assert_eq!(shown.faults[0].body.index(), top);
+        assert_eq!(shown.faults[0].step, 0, "isolated in the step it went bad");
+        assert!(!shown.bodies[top].visible);
+        let others_visible = shown.bodies[..top].iter().filter(|b| b.visible).count();
+        let others_visible_before = Simulation::new("stack")
+            .unwrap()
+            .snapshot(Instant::now())
+            .bodies[..top]
+            .iter()
+            .filter(|b| b.visible)
+            .count();
+        assert_eq!(others_visible, others_visible_before);
+    }
+
+    #[test]
+    fn the_snapshot_carries_only_the_newest_faults() {
+        let mut sim = Simulation::new("pachinko").unwrap();
+        let balls: Vec<usize> = (0..sim.world().bodies().len())
+            .filter(|&i| sim.world().bodies()[i].is_dynamic())
+            .take(MAX_FAULTS_SHOWN + 3)
+            .collect();
+        for &ball in &balls {
+            sim.world
+                .body_mut(BodyId(ball as u32))
+                .apply_force(DVec3::splat(f64::INFINITY));
+        }
+        sim.step();
+        let shown = sim.snapshot(Instant::now());
+        assert_eq!(shown.fault_count, balls.len());
+        let listed: Vec<usize> = shown.faults.iter().map(|f| f.body.index()).collect();
+        assert_eq!(listed, balls[3..].to_vec());
     }
 
     #[test]

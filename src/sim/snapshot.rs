@@ -6,8 +6,12 @@ use web_time::Instant;
 
 use glam::{Quat, Vec3};
 
-use crate::physics::{BroadPhaseKind, Integrator, Pipeline, Shape, StageTimes};
+use crate::physics::{BroadPhaseKind, Fault, Integrator, Pipeline, Shape, StageTimes};
 use crate::sim::scenes::CameraHint;
+
+/// Most faults a snapshot carries: the panel lists the newest, and a run that keeps
+/// faulting must not copy an ever longer list every step.
+pub const MAX_FAULTS_SHOWN: usize = 8;
 
 /// Position of the shape's own origin and its orientation: what a mesh needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,6 +80,8 @@ pub struct Counters {
     pub bodies: usize,
     /// Dynamic bodies not asleep.
     pub awake: usize,
+    /// Candidate pairs from the broad phase in the last step.
+    pub pairs: usize,
     /// Contact points of the last step, speculative ones included.
     pub contacts: usize,
     /// Deepest overlap of the last step, m.
@@ -132,6 +138,10 @@ pub struct Snapshot {
     pub settings: SimSettings,
     /// Why the last command failed (an unknown scene, an invalid spawn), if it did.
     pub message: Option<String>,
+    /// Bodies whose state went non-finite, isolated from the rest of the world (oldest
+    /// first, the newest `MAX_FAULTS_SHOWN`), and how many there were in all.
+    pub faults: Vec<Fault>,
+    pub fault_count: usize,
     /// When the newest step was taken, and the wall time one step stands for, so a frame can
     /// place itself between `previous` and `pose`.
     pub published_at: Instant,

@@ -80,6 +80,7 @@ impl Panel {
             if let Some(message) = &snapshot.message {
                 ui.colored_label(egui::Color32::LIGHT_RED, message);
             }
+            faults(ui, snapshot);
             self.scene_section(ui, snapshot, &mut commands);
             ui.separator();
             self.time_section(ui, &mut commands);
@@ -309,6 +310,34 @@ fn files_row(ui: &mut egui::Ui, out: &mut Vec<Command>) {
     });
 }
 
+/// Bodies whose state went non-finite: the world isolated them (they no longer move, touch
+/// anything or get drawn); the user should know which and when.
+fn faults(ui: &mut egui::Ui, snapshot: &Snapshot) {
+    if snapshot.fault_count == 0 {
+        return;
+    }
+    let colour = egui::Color32::LIGHT_RED;
+    ui.colored_label(
+        colour,
+        format!(
+            "isolated, state no longer finite: {} bodies",
+            snapshot.fault_count
+        ),
+    );
+    for fault in &snapshot.faults {
+        ui.colored_label(
+            colour,
+            format!(
+                "  {} (body {}) at step {}, t = {:.3} s",
+                fault.name,
+                fault.body.index(),
+                fault.step,
+                fault.time
+            ),
+        );
+    }
+}
+
 fn stage_times(s: &StageTimes) -> String {
     let us = |seconds: f64| seconds * 1e6;
     format!(
@@ -335,9 +364,12 @@ fn counters(ui: &mut egui::Ui, snapshot: &Snapshot, stats: FrameStats) {
             ("awake", c.awake.to_string()),
             ("contacts", c.contacts.to_string()),
         ],
+        [
+            ("pairs", c.pairs.to_string()),
+            ("render", format!("{:.0} fps", stats.frames_per_second)),
+        ],
     ];
     let singles = [
-        ("render", format!("{:.0} fps", stats.frames_per_second)),
         (
             "energy",
             format!("{:.2} J", c.kinetic_energy + c.potential_energy),
