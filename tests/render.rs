@@ -12,10 +12,11 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 use image::{Rgba, RgbaImage};
-use rigid::render::lines::{AABB_COLOR, BROAD_PHASE_COLOR};
+use rigid::physics::BroadPhaseKind;
+use rigid::render::lines::{AABB_COLOR, BROAD_PHASE_COLOR, GRID_CELL_COLOR};
 use rigid::render::renderer::SLEEP_COLOR;
 use rigid::render::{Gpu, OrbitCamera, Overlays, headless};
-use rigid::sim::Snapshot;
+use rigid::sim::{Command, Simulation, Snapshot};
 
 const SIZE: (u32, u32) = (480, 320);
 /// A pixel differs from the golden when a channel differs by more than this (of 255):
@@ -328,6 +329,39 @@ fn broad_phase_overlay_draws_the_awake_boxes_only_when_on() {
     assert!(
         without < 20,
         "{without} broad-phase-coloured pixels with the overlay off"
+    );
+}
+
+#[test]
+fn broad_phase_overlay_draws_the_uniform_grid_cells_in_use() {
+    let gpu = gpu();
+    let mut sim = Simulation::new("falling_box").unwrap();
+    sim.apply(Command::SetBroadPhase(BroadPhaseKind::UniformGrid {
+        cell_size: 1.0,
+    }));
+    for _ in 0..30 {
+        sim.step();
+    }
+    let snapshot = sim.snapshot(web_time::Instant::now());
+    // The falling box (1 m, tumbling) overlaps a few 1 m cells; the platform is oversized.
+    let cells = snapshot.broad_phase_cells.len();
+    assert!((1..=27).contains(&cells), "{cells} cells");
+    let on = Overlays {
+        broad_phase: true,
+        ..Overlays::default()
+    };
+    let with = count_near(&render(&gpu, &snapshot, on), GRID_CELL_COLOR);
+    let without = count_near(
+        &render(&gpu, &snapshot, Overlays::default()),
+        GRID_CELL_COLOR,
+    );
+    assert!(
+        with > 200,
+        "grid cells drew only {with} pixels of their colour"
+    );
+    assert!(
+        without < 20,
+        "{without} cell-coloured pixels with the overlay off"
     );
 }
 

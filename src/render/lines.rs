@@ -17,6 +17,8 @@ pub struct LineVertex {
 pub const AABB_COLOR: [f32; 3] = [1.0, 0.85, 0.1];
 /// Cyan, apart from the AABB yellow: the broad phase's grown boxes.
 pub const BROAD_PHASE_COLOR: [f32; 3] = [0.1, 0.9, 0.9];
+/// Magenta: the uniform grid's occupied cells, apart from the boxes inside them.
+pub const GRID_CELL_COLOR: [f32; 3] = [0.95, 0.2, 0.85];
 pub const VELOCITY_COLOR: [f32; 3] = [0.1, 0.9, 1.0];
 const GRID_COLOR: [f32; 4] = [0.35, 0.38, 0.42, 0.6];
 

@@ -8,7 +8,7 @@ use wgpu::util::DeviceExt;
 
 use crate::render::camera::OrbitCamera;
 use crate::render::gpu::Gpu;
-use crate::render::lines::{AABB_COLOR, BROAD_PHASE_COLOR, LineList};
+use crate::render::lines::{AABB_COLOR, BROAD_PHASE_COLOR, GRID_CELL_COLOR, LineList};
 use crate::render::mesh;
 use crate::render::pipelines::{DEPTH_FORMAT, Globals, Instance, Pipelines};
 use crate::sim::snapshot::BodyPose;
@@ -330,6 +330,9 @@ impl SceneRenderer {
         if frame.overlays.broad_phase {
             for &(min, max) in &snapshot.broad_phase_boxes {
                 lines.aabb(min, max, BROAD_PHASE_COLOR);
+            }
+            for &(min, max) in &snapshot.broad_phase_cells {
+                lines.aabb(min, max, GRID_CELL_COLOR);
             }
         }
         lines.segments(frame.extra_lines);

@@ -9,7 +9,10 @@ use web_time::{Duration, Instant};
 
 use glam::{DVec3, Vec3};
 
-use crate::physics::{Aabb, BodyId, EnvironmentForce, Fault, Material, Motion, RigidBody, World};
+use crate::physics::broad_phase::UniformGrid;
+use crate::physics::{
+    Aabb, BodyId, BroadPhaseKind, EnvironmentForce, Fault, Material, Motion, RigidBody, World,
+};
 use crate::scene::MAX_BODIES;
 use crate::sim::command::{Command, SpawnKind};
 use crate::sim::recording::{RecordedCommand, Recording};
@@ -271,6 +274,7 @@ impl Simulation {
             bodies,
             shapes: self.shapes.clone(),
             broad_phase_boxes: broad_phase_boxes(&self.world),
+            broad_phase_cells: broad_phase_cells(&self.world),
             lines: contact_lines(&self.world),
             counters: self.counters(),
             history: self.history.iter().copied().collect(),
@@ -581,6 +585,18 @@ fn broad_phase_boxes(world: &World) -> Vec<(Vec3, Vec3)> {
         .iter()
         .filter(|proxy| proxy.active)
         .map(|proxy| (proxy.aabb.min.as_vec3(), proxy.aabb.max.as_vec3()))
+        .collect()
+}
+
+fn broad_phase_cells(world: &World) -> Vec<(Vec3, Vec3)> {
+    let BroadPhaseKind::UniformGrid { cell_size } = world.settings.broad_phase else {
+        return Vec::new();
+    };
+    let active = world.broad_phase_proxies().iter().filter(|p| p.active);
+    UniformGrid::new(cell_size)
+        .occupied_cells(active.map(|p| &p.aabb))
+        .into_iter()
+        .map(|cell| (cell.min.as_vec3(), cell.max.as_vec3()))
         .collect()
 }
 

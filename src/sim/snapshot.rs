@@ -131,6 +131,8 @@ pub struct Snapshot {
     pub shapes: ShapeTable,
     /// Broad-phase boxes (min, max) of the bodies awake in the last step.
     pub broad_phase_boxes: Vec<(Vec3, Vec3)>,
+    /// With the uniform grid: the cells those boxes occupy (the report's spatial partition).
+    pub broad_phase_cells: Vec<(Vec3, Vec3)>,
     /// Contact points (small crosses) and normals of the last step.
     pub lines: Vec<LineSegment>,
     pub counters: Counters,

@@ -45,17 +45,54 @@ impl UniformGrid {
         (index(aabb.min), index(aabb.max))
     }
 
+    /// Whether a box is kept aside rather than written into its cells.
+    fn is_oversized(&self, aabb: &Aabb) -> bool {
+        let (lo, hi) = self.cell_range(aabb);
+        let count = |a: i32, b: i32| i64::from(b) - i64::from(a) + 1;
+        count(lo.0, hi.0) * count(lo.1, hi.1) * count(lo.2, hi.2) > MAX_CELLS_PER_PROXY
+    }
+
+    /// The cells the given boxes are written into, as boxes, each once and in a fixed order
+    /// (for drawing the grid the broad phase works with). Oversized boxes take no cell.
+    pub fn occupied_cells<'a>(&self, boxes: impl IntoIterator<Item = &'a Aabb>) -> Vec<Aabb> {
+        let mut cells = Vec::new();
+        for aabb in boxes {
+            if self.is_oversized(aabb) {
+                continue;
+            }
+            let (lo, hi) = self.cell_range(aabb);
+            for x in lo.0..=hi.0 {
+                for y in lo.1..=hi.1 {
+                    for z in lo.2..=hi.2 {
+                        cells.push((x, y, z));
+                    }
+                }
+            }
+        }
+        cells.sort_unstable();
+        cells.dedup();
+        let size = self.cell_size;
+        cells
+            .into_iter()
+            .map(|(x, y, z)| {
+                let min = DVec3::new(x as f64, y as f64, z as f64) * size;
+                Aabb {
+                    min,
+                    max: min + DVec3::splat(size),
+                }
+            })
+            .collect()
+    }
+
     fn rebuild(&mut self, proxies: &[Proxy]) {
         self.cells.values_mut().for_each(Vec::clear);
         self.oversized.clear();
         for (index, proxy) in proxies.iter().enumerate() {
-            let (lo, hi) = self.cell_range(&proxy.aabb);
-            let count = |a: i32, b: i32| i64::from(b) - i64::from(a) + 1;
-            let cells = count(lo.0, hi.0) * count(lo.1, hi.1) * count(lo.2, hi.2);
-            if cells > MAX_CELLS_PER_PROXY {
+            if self.is_oversized(&proxy.aabb) {
                 self.oversized.push(index as u32);
                 continue;
             }
+            let (lo, hi) = self.cell_range(&proxy.aabb);
             for x in lo.0..=hi.0 {
                 for y in lo.1..=hi.1 {
                     for z in lo.2..=hi.2 {
@@ -92,5 +129,41 @@ impl BroadPhase for UniformGrid {
         pairs.sort_unstable();
         pairs.dedup();
         pairs
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn aabb(min: [f64; 3], max: [f64; 3]) -> Aabb {
+        Aabb {
+            min: DVec3::from(min),
+            max: DVec3::from(max),
+        }
+    }
+
+    #[test]
+    fn occupied_cells_are_the_cells_a_box_touches_once_each() {
+        let grid = UniformGrid::new(0.5);
+        // Spans x in [0.2, 0.7] (cells 0 and 1), y and z inside cell 0; the second box
+        // lies in cell (1, 0, 0) again.
+        let boxes = [
+            aabb([0.2, 0.1, 0.1], [0.7, 0.4, 0.4]),
+            aabb([0.6, 0.1, 0.1], [0.9, 0.2, 0.2]),
+        ];
+        let cells = grid.occupied_cells(&boxes);
+        assert_eq!(
+            cells,
+            vec![
+                aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5]),
+                aabb([0.5, 0.0, 0.0], [1.0, 0.5, 0.5])
+            ]
+        );
+        // Negative coordinates floor down: [-0.1, 0.1] covers cells -1 and 0 on each axis.
+        assert_eq!(grid.occupied_cells(&[aabb([-0.1; 3], [0.1; 3])]).len(), 8);
+        // A ground slab covering thousands of cells is kept aside, as in `find_pairs`.
+        let slab = aabb([-50.0, -1.0, -50.0], [50.0, 0.0, 50.0]);
+        assert!(grid.occupied_cells(&[slab]).is_empty());
     }
 }
