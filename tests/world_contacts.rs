@@ -1,7 +1,10 @@
 //! The whole step (broad phase → narrow phase → soft solver) on scenes with analytic answers.
 
 use glam::{DQuat, DVec3};
-use rigid::physics::{BodyDesc, BodyId, EnvironmentForce, Material, RemoveError, Shape, World};
+use rigid::physics::{
+    AddBodyError, BodyDesc, BodyError, BodyId, EnvironmentForce, MAX_BODIES, Material, RemoveError,
+    Shape, World,
+};
 
 fn world() -> World {
     let mut world = World::default();
@@ -309,6 +312,40 @@ fn removing_twice_or_an_unknown_body_is_an_error() {
         world.remove_body(BodyId(7)),
         Err(RemoveError::NoSuchBody(7))
     );
+}
+
+#[test]
+fn a_full_world_refuses_another_body_with_an_error() {
+    let mut world = World::default();
+    let ball = || BodyDesc::dynamic(Shape::sphere(0.1));
+    for i in 0..MAX_BODIES {
+        let id = world.add_body(ball().at(DVec3::X * i as f64)).unwrap();
+        assert_eq!(id.index(), i);
+    }
+    assert_eq!(world.add_body(ball()), Err(AddBodyError::TooManyBodies));
+    assert_eq!(world.bodies().len(), MAX_BODIES, "nothing was added");
+    // A removed body keeps its slot (ids stay valid), so it still counts.
+    world.remove_body(BodyId(0)).unwrap();
+    assert_eq!(world.add_body(ball()), Err(AddBodyError::TooManyBodies));
+    let message = AddBodyError::TooManyBodies.to_string();
+    assert!(message.contains("100000"), "{message}");
+    // The world is still usable.
+    world.step(1.0 / 60.0);
+    assert_eq!(world.bodies().len(), MAX_BODIES);
+}
+
+#[test]
+fn an_invalid_description_is_an_add_body_error_naming_the_body() {
+    let mut world = World::default();
+    let error = world
+        .add_body(BodyDesc::dynamic(Shape::sphere(f64::NAN)).named("mote"))
+        .unwrap_err();
+    assert!(
+        matches!(error, AddBodyError::Invalid(BodyError::Shape { ref body, .. }) if body == "mote"),
+        "{error:?}"
+    );
+    assert!(error.to_string().starts_with("body 'mote'"), "{error}");
+    assert!(world.bodies().is_empty());
 }
 
 #[test]
