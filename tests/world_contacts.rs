@@ -92,6 +92,64 @@ fn c9_a_stack_of_ten_boxes_stands_still() {
     assert!(boxes.iter().all(|&b| world.body(b).sleeping));
 }
 
+/// Apexes (heights of the lowest point) of the first three bounces of a 0.1 m ball dropped
+/// from 1 m onto an ε = 1 ground, with the world's default settings at dt = 1/60.
+fn bounce_apexes(restitution: f64) -> Vec<f64> {
+    let mut world = world();
+    world.settings.sleep.enabled = false;
+    let ground = BodyDesc::fixed(Shape::cuboid(DVec3::new(20.0, 0.5, 20.0)))
+        .at(DVec3::Y * -0.5)
+        .with_material(Material {
+            restitution: 1.0,
+            ..Material::default()
+        });
+    world.add_body(ground).unwrap();
+    let ball = BodyDesc::dynamic(Shape::sphere(0.1))
+        .at(DVec3::Y * 1.1)
+        .with_material(Material {
+            restitution,
+            friction: 0.0,
+            ..Material::default()
+        });
+    let ball = world.add_body(ball).unwrap();
+    let (mut apexes, mut previous_vy) = (vec![], 0.0);
+    while apexes.len() < 3 && world.time() < 10.0 {
+        world.step(1.0 / 60.0);
+        let vy = world.body(ball).velocity().y;
+        if previous_vy > 0.0 && vy <= 0.0 {
+            apexes.push(world.body(ball).position.y - 0.1);
+        }
+        previous_vy = vy;
+    }
+    apexes
+}
+
+#[test]
+fn c2_bounces_reach_h_e_to_the_2k_at_the_default_settings() {
+    // The whole step (speculative contacts from the narrow phase, 8 substeps): measured
+    // 0.03, 0.15 and 0.01 % low at ε = 0.8, and 0.12, 0.11, 0.11 % low at ε = 1.
+    for restitution in [0.8, 1.0] {
+        let apexes = bounce_apexes(restitution);
+        assert_eq!(apexes.len(), 3, "ε = {restitution}: {apexes:?}");
+        for (k, apex) in apexes.iter().enumerate() {
+            let expected = restitution.powi(2 * (k as i32 + 1));
+            let error = apex / expected - 1.0;
+            println!(
+                "C2 ε = {restitution}, bounce {}: apex {apex:.4} m, error {:+.2} %",
+                k + 1,
+                error * 100.0
+            );
+            assert!(
+                error.abs() < 0.02,
+                "ε = {restitution}, bounce {}: {apex}",
+                k + 1
+            );
+            // No bounce ever rises above where the ball fell from.
+            assert!(*apex < 1.0, "ε = {restitution}, bounce {}: {apex}", k + 1);
+        }
+    }
+}
+
 #[test]
 fn c11_a_fast_small_sphere_never_passes_a_thin_wall() {
     let mut world = World::default();
