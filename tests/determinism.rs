@@ -58,6 +58,16 @@ fn session() -> Vec<(u64, Command)> {
 /// Runs `scene` for `ticks` steps, applying each command when the tick count reaches it, as
 /// the simulation thread would between two steps.
 fn drive(scene: &str, commands: &[(u64, Command)], ticks: u64) -> Simulation {
+    drive_watching(scene, commands, ticks, |_| {})
+}
+
+/// `drive`, handing the simulation to `watch` after every step.
+fn drive_watching(
+    scene: &str,
+    commands: &[(u64, Command)],
+    ticks: u64,
+    mut watch: impl FnMut(&Simulation),
+) -> Simulation {
     let mut sim = Simulation::new(scene).unwrap();
     let mut pending = commands.iter().peekable();
     while sim.ticks() < ticks {
@@ -65,6 +75,7 @@ fn drive(scene: &str, commands: &[(u64, Command)], ticks: u64) -> Simulation {
             sim.apply(command.clone());
         }
         sim.step();
+        watch(&sim);
     }
     sim
 }
@@ -170,22 +181,52 @@ fn bad_recordings_and_saved_worlds_are_reported() {
     );
 }
 
+/// Ticks at which the thread test compares worlds: the session resets at tick 150 (the
+/// command is applied before the step that ends tick 151), so ticks up to 150 show the
+/// scene under test and the later ones the pyramid it loads.
+const CHECKPOINT_EVERY: u64 = 25;
+
+/// The session on `scene` with `threads` rayon threads: the world text at every checkpoint,
+/// and the most contact manifolds any step before the reset found.
+fn checkpoints(scene: &str, threads: usize) -> (Vec<(u64, String)>, usize) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    let (mut texts, mut most_manifolds) = (vec![], 0);
+    pool.install(|| {
+        drive_watching(scene, &session(), 200, |sim| {
+            if sim.ticks() <= 150 {
+                most_manifolds = most_manifolds.max(sim.world().contacts().len());
+            }
+            if sim.ticks() % CHECKPOINT_EVERY == 0 {
+                texts.push((sim.ticks(), world_text(sim)));
+            }
+        })
+    });
+    (texts, most_manifolds)
+}
+
 #[test]
 fn the_number_of_threads_does_not_change_a_bit() {
-    let run = |scene: &str, threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| world_text(&drive(scene, &session(), 200)))
-    };
     for scene in ["pachinko", "rain"] {
-        let single = run(scene, 1);
+        let (single, most_manifolds) = checkpoints(scene, 1);
+        assert_eq!(single.len(), 8, "ticks 25 to 200");
+        // The narrow phase hands 64 pairs to a rayon task: the scene itself (not only the
+        // pyramid loaded after the reset) must have given the threads several tasks to split.
+        assert!(
+            most_manifolds > 4 * 64,
+            "{scene}: at most {most_manifolds} manifolds before the reset"
+        );
         for threads in [2, 3, 8] {
-            assert!(
-                run(scene, threads) == single,
-                "{scene} with {threads} threads"
-            );
+            let (other, _) = checkpoints(scene, threads);
+            assert_eq!(other.len(), single.len());
+            for ((tick, expected), (_, got)) in single.iter().zip(&other) {
+                assert!(
+                    got == expected,
+                    "{scene} with {threads} threads differs at tick {tick}"
+                );
+            }
         }
     }
 }

@@ -4,7 +4,10 @@ use std::f64::consts::PI;
 
 use glam::{DMat3, DQuat, DVec3};
 use proptest::prelude::*;
-use rigid::physics::{ConvexHull, HullError, HullFace, MassProperties, Shape};
+use rigid::physics::{
+    AddBodyError, BodyDesc, BodyError, ConvexHull, HullError, HullFace, MAX_HULL_POINTS,
+    MassProperties, Shape, ShapeError, World,
+};
 
 const DENSITY: f64 = 1200.0;
 
@@ -459,6 +462,63 @@ fn degenerate_inputs_are_errors() {
         ConvexHull::from_points(&with_infinity),
         Err(HullError::NotFinite(2))
     );
+}
+
+#[test]
+fn clouds_up_to_the_point_limit_are_hulls_and_larger_ones_are_errors() {
+    // The limit itself is accepted: a box's corners and interior points fill it.
+    let half = DVec3::new(1.0, 0.5, 0.25);
+    let mut random = XorShift(0x9e37_79b9_7f4a_7c15);
+    let mut points = box_corners(half);
+    while points.len() < MAX_HULL_POINTS {
+        points.push(random.in_unit_cube() * half * 0.99);
+    }
+    let hull = ConvexHull::from_points(&points).unwrap();
+    assert_eq!(hull.vertices.len(), 8);
+    assert_eq!(hull.faces.len(), 6);
+
+    points.push(DVec3::ZERO);
+    let too_many = MAX_HULL_POINTS + 1;
+    assert_eq!(
+        ConvexHull::from_points(&points),
+        Err(HullError::TooManyPoints(too_many))
+    );
+    assert_eq!(
+        Shape::hull(&points),
+        Err(ShapeError::Hull(HullError::TooManyPoints(too_many)))
+    );
+    let message = HullError::TooManyPoints(too_many).to_string();
+    assert!(
+        message.contains("100001") && message.contains("100000"),
+        "{message}"
+    );
+}
+
+#[test]
+fn a_hand_built_hull_with_too_many_vertices_is_refused_by_the_world() {
+    // Vertices no face uses, inside the box: only the count is wrong.
+    let mut crowded = ConvexHull::cuboid(DVec3::ONE);
+    crowded
+        .vertices
+        .resize(MAX_HULL_POINTS + 1, DVec3::splat(0.5));
+    assert_eq!(
+        crowded.validate(),
+        Err(HullError::TooManyPoints(MAX_HULL_POINTS + 1))
+    );
+    let shape = Shape::ConvexHull(std::sync::Arc::new(crowded));
+    let mut world = World::default();
+    let error = world.add_body(BodyDesc::dynamic(shape)).unwrap_err();
+    assert!(
+        matches!(
+            error,
+            AddBodyError::Invalid(BodyError::Shape {
+                source: ShapeError::Hull(HullError::TooManyPoints(_)),
+                ..
+            })
+        ),
+        "{error:?}"
+    );
+    assert!(world.bodies().is_empty());
 }
 
 /// Construction tolerances are about 1e4 f64 epsilons (2.2e-12) of the cloud's half-extent.

@@ -98,7 +98,7 @@ fn every_scene_file_is_built_in_and_the_default_exists() {
 
 #[test]
 fn built_in_scene_metadata_is_filled_in() {
-    for builtin in builtin_scenes().iter().filter(|s| s.name != "hulls") {
+    for builtin in builtin_scenes() {
         let scene = builtin.parse().unwrap();
         assert_eq!(scene.name, builtin.name);
         assert!(!scene.description.is_empty());
@@ -517,13 +517,9 @@ fn missing_file_and_unknown_scene_are_reported() {
 
 // ---- no input panics ----
 
-/// Sources without hulls: quickhull is not merged yet, and random edits never create one.
-fn hull_free_sources() -> Vec<&'static str> {
-    builtin_scenes()
-        .iter()
-        .filter(|scene| !scene.source.contains("Hull("))
-        .map(|scene| scene.source)
-        .collect()
+/// Every built-in scene's text, the fuzz's starting points.
+fn sources() -> Vec<&'static str> {
+    builtin_scenes().iter().map(|scene| scene.source).collect()
 }
 
 /// A two-template scene with every number a user can write taken from the arguments.
@@ -567,10 +563,10 @@ proptest! {
 
     #[test]
     fn garbled_scene_text_never_panics(
-        source in 0..hull_free_sources().len(),
+        source in 0..sources().len(),
         edits in prop::collection::vec(edit_strategy(), 1..4),
     ) {
-        let mut text = hull_free_sources()[source].to_owned();
+        let mut text = sources()[source].to_owned();
         for edit in &edits {
             text = apply(&text, edit);
         }

@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 use rigid::physics::{
-    BodyDesc, EnvironmentForce, Pipeline, Shape, SnapshotError, World, WorldSnapshot,
+    BodyDesc, EnvironmentForce, MAX_BODIES, Pipeline, Shape, SnapshotError, World, WorldSnapshot,
 };
 use rigid::scene;
 
@@ -147,6 +147,27 @@ fn bad_snapshots_are_refused_with_the_file_and_body_named() {
 
     let error = WorldSnapshot::from_ron("(format: 1, nonsense: 3)", FILE).unwrap_err();
     assert!(matches!(error, SnapshotError::Unreadable { .. }), "{error}");
+}
+
+#[test]
+fn a_snapshot_with_more_bodies_than_a_world_holds_is_refused() {
+    let mut world = scene_world("falling_box");
+    run(&mut world, 10);
+    let mut snapshot = world.to_snapshot();
+    let body = snapshot.bodies[1].clone();
+    snapshot.bodies.resize(MAX_BODIES, body);
+    assert_eq!(snapshot.check(FILE), Ok(()), "the limit itself is accepted");
+    snapshot.bodies.push(snapshot.bodies[1].clone());
+    let error = snapshot.check(FILE).unwrap_err();
+    assert!(
+        matches!(error, SnapshotError::Inconsistent { .. }),
+        "{error}"
+    );
+    let text = error.to_string();
+    assert!(
+        text.starts_with(FILE) && text.contains("100001 bodies"),
+        "{text}"
+    );
 }
 
 #[test]

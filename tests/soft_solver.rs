@@ -150,8 +150,9 @@ impl Sim {
     }
 }
 
-#[test]
-fn c2_bounce_apex_heights_follow_e_to_the_2k() {
+/// C2 with `substeps`: the apexes of bounces 1–3 over h ε^(2k) − 1, and the most energy
+/// the ball ever had over what it started with.
+fn c2_bounce(substeps: u32) -> (Vec<f64>, f64) {
     let (radius, drop, e, dt) = (0.1, 1.0, 0.8, 1.0 / 60.0);
     let ball = body(
         BodyDesc::dynamic(Shape::sphere(radius))
@@ -159,10 +160,7 @@ fn c2_bounce_apex_heights_follow_e_to_the_2k() {
             .with_material(material(e, 0.0)),
     );
     let mut sim = Sim::new(vec![ground(DVec3::Y, 1.0, 0.0), ball], DVec3::Y, true);
-    // The free flight is integrated to first order: each flight's discrete apex is short by
-    // g·h/v0 of the height (h the substep). With 4 substeps bounce 1 comes out 2.1 % low and
-    // with 8, bounce 3 is 2.2 % low; 16 substeps bring the first three within 1.4 %.
-    sim.settings.substeps = 16;
+    sim.settings.substeps = substeps;
     let mut apexes = vec![];
     let (mut previous_vy, mut max_energy) = (0.0, f64::MIN);
     let energy = |b: &RigidBody| b.kinetic_energy() + b.mass() * G * b.position.y;
@@ -177,23 +175,43 @@ fn c2_bounce_apex_heights_follow_e_to_the_2k() {
         }
         previous_vy = vy;
     }
-    println!("apexes {apexes:?}");
     assert!(apexes.len() >= 3, "{apexes:?}");
-    for (k, apex) in apexes.iter().take(3).enumerate() {
-        let expected = drop * e.powi(2 * (k as i32 + 1));
-        let error = (apex - expected).abs() / expected;
-        println!(
-            "bounce {}: apex {apex:.4} m, expected {expected:.4} m, error {:.2} %",
-            k + 1,
-            error * 100.0
-        );
-        assert!(error < 0.02, "bounce {}: {apex} vs {expected}", k + 1);
+    let errors = (0..3)
+        .map(|k| {
+            let expected = drop * e.powi(2 * (k as i32 + 1));
+            let error = apexes[k] / expected - 1.0;
+            println!(
+                "{substeps} substeps, bounce {}: apex {:.4} m, expected {expected:.4} m, error {:+.2} %",
+                k + 1,
+                apexes[k],
+                error * 100.0
+            );
+            error
+        })
+        .collect();
+    (errors, max_energy / initial_energy)
+}
+
+#[test]
+fn c2_bounce_apex_heights_follow_e_to_the_2k() {
+    // Restitution acts on the speed of the integrator's discrete arc (see `rebound_speed`),
+    // so the first-order free flight no longer shortens every bounce by g·h/v: at the
+    // default 8 substeps the first three apexes are 0.03, 0.15 and 0.01 % low (measured;
+    // 2.2 to 3.7 % before), and 4 substeps do as well. What is left is reading the apex at
+    // the end of a 1/60 s step.
+    let default = SoftSolverSettings::default().substeps;
+    for substeps in [default, 4] {
+        let (errors, max_energy) = c2_bounce(substeps);
+        for (k, error) in errors.iter().enumerate() {
+            assert!(
+                error.abs() < 0.02,
+                "{substeps} substeps, bounce {}: {error}",
+                k + 1
+            );
+        }
+        // Energy never exceeds what the ball started with (1e-9 relative for round-off).
+        assert!(max_energy <= 1.0 + 1e-9, "{max_energy}");
     }
-    // Energy never exceeds what the ball started with (1e-9 relative for round-off).
-    assert!(
-        max_energy <= initial_energy * (1.0 + 1e-9),
-        "{max_energy} > {initial_energy}"
-    );
 }
 
 #[test]

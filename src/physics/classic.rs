@@ -17,9 +17,12 @@
 //! have a time of impact of zero at every event and the loop would never end (the report
 //! meets the same difficulty and answers it with ε = 0 impulses and sleeping).
 //!
-//! `Simple` (Algorithm 4, for comparison): pairs penetrating at the start of the step are
-//! rewound to their contact configuration, impulses are applied, then every body takes the
-//! whole step. It depends on the order of the pairs, as the report explains.
+//! `Simple` (Algorithm 4, for comparison), in the report's order: pairs penetrating at the
+//! start of the step are rewound to their contact configuration (momenta with the poses),
+//! impulses are applied, then the environment forces act and every body takes the whole
+//! step. It depends on the order of the pairs, as the report explains. Its free flight is
+//! semi-implicit Euler with nothing to offset the error: C2 apexes are 8 %, 18 % and 30 %
+//! low with one slice at dt = 1/60 and within 2 % with 24 slices (`tests/classic.rs`).
 //!
 //! Several contacts of one event are solved together by repeating the impulses
 //! (`iterations`), each clamped so that bodies are never pulled together; with one contact
@@ -109,9 +112,11 @@ pub fn step(
     let mut total = ClassicReport::default();
     let mut touching = Vec::new();
     for _ in 0..slices {
-        apply_forces(bodies, ctx.forces, slice.dt);
         let (report, last) = match ctx.settings.main_loop {
-            MainLoop::Ordered => ordered_step(bodies, pairs, &slice),
+            MainLoop::Ordered => {
+                apply_forces(bodies, ctx.forces, slice.dt);
+                ordered_step(bodies, pairs, &slice)
+            }
             MainLoop::Simple => simple_step(bodies, pairs, &slice),
         };
         total.events += report.events;
@@ -123,7 +128,7 @@ pub fn step(
 }
 
 /// L += F dt and A += τ dt for every awake body; the accumulators are then cleared so that
-/// the rewinds move bodies ballistically.
+/// the ordered loop's predictions and rewinds move bodies ballistically.
 fn apply_forces(bodies: &mut [RigidBody], environment: &[EnvironmentForce], dt: f64) {
     for body in bodies.iter_mut() {
         if body.is_awake() {
@@ -162,6 +167,9 @@ fn ordered_step(
     (report, touching)
 }
 
+/// Algorithm 4 in the report's order: collisions are corrected and answered first, then the
+/// environment forces act and every body is integrated. Forces applied before the response
+/// would be rewound with the poses and would add a step of gravity to every impact speed.
 fn simple_step(
     bodies: &mut [RigidBody],
     pairs: &[BodyPair],
@@ -171,16 +179,30 @@ fn simple_step(
     for pair in pairs {
         let (a, b) = pair_mut(bodies, pair);
         if gjk_distance(a, b).distance == 0.0 {
-            // Rewind both bodies along the step they just took to where they touched.
-            bisection_rewind(a, b, ctx.dt, ctx.settings.theta, ctx.integrator);
+            rewind_along_last_step(a, b, ctx);
             report.rewinds += 1;
         }
     }
     let touching = touching_manifolds(bodies, pairs, ctx.settings.theta);
     resolve(bodies, &touching, ctx.settings);
+    apply_forces(bodies, ctx.forces, ctx.dt);
     advance(bodies, ctx.dt, ctx.integrator);
     report.events = 1;
     (report, touching)
+}
+
+/// Algorithm 3 back along the step the pair just took, with that step's environment forces
+/// so that the momenta are rewound with the poses (a ballistic rewind would lift a falling
+/// body to the contact at its impact speed, creating energy). The forces the user put on
+/// the bodies for this step are kept aside meanwhile.
+fn rewind_along_last_step(a: &mut RigidBody, b: &mut RigidBody, ctx: &ClassicContext) {
+    let kept = [(a.force, a.torque), (b.force, b.torque)];
+    for body in [&mut *a, &mut *b] {
+        body.clear_accumulators();
+        forces::apply_environment(ctx.forces, body);
+    }
+    bisection_rewind(a, b, ctx.dt, ctx.settings.theta, ctx.integrator);
+    [(a.force, a.torque), (b.force, b.torque)] = kept;
 }
 
 fn pair_mut<'a>(

@@ -70,10 +70,17 @@ pub struct ConvexHull {
     pub edges: Vec<[u32; 2]>,
 }
 
+/// Most points a hull may be built from (and most vertices a hand-built hull may have).
+/// Hulls of everyday bodies have tens of vertices; support queries are linear in them, so
+/// a cloud this large is almost certainly a mesh's vertex buffer passed by mistake.
+pub const MAX_HULL_POINTS: usize = 100_000;
+
 #[derive(Debug, Error, PartialEq)]
 pub enum HullError {
     #[error("needs at least 4 points, got {0}")]
     TooFewPoints(usize),
+    #[error("{0} points, more than the {MAX_HULL_POINTS} a hull may have")]
+    TooManyPoints(usize),
     #[error("point {0} is not finite")]
     NotFinite(usize),
     #[error("points are degenerate: {0}")]
@@ -99,9 +106,7 @@ impl ConvexHull {
     /// The convex hull of `points`. Interior, duplicate and mid-edge/mid-face points are
     /// dropped; the remaining vertices are re-indexed in their input order.
     pub fn from_points(points: &[DVec3]) -> Result<Self, HullError> {
-        if points.len() < 4 {
-            return Err(HullError::TooFewPoints(points.len()));
-        }
+        check_point_count(points.len())?;
         if let Some(index) = points.iter().position(|p| !p.is_finite()) {
             return Err(HullError::NotFinite(index));
         }
@@ -147,16 +152,14 @@ impl ConvexHull {
         Self::from_polygons(&corners, &polygons)
     }
 
-    /// Checks what a hand-built hull can get wrong: finite vertices, at least 4 of them, faces
+    /// Checks what a hand-built hull can get wrong: finite vertices, 4 to `MAX_HULL_POINTS` of them, faces
     /// and edges that index real vertices, extents within [MIN_EXTENT, MAX_EXTENT], face planes that
     /// match their vertices, convexity and a positive volume.
     pub fn validate(&self) -> Result<(), HullError> {
         if let Some(index) = self.vertices.iter().position(|v| !v.is_finite()) {
             return Err(HullError::NotFinite(index));
         }
-        if self.vertices.len() < 4 {
-            return Err(HullError::TooFewPoints(self.vertices.len()));
-        }
+        check_point_count(self.vertices.len())?;
         let vertex_count = self.vertices.len();
         for (index, face) in self.faces.iter().enumerate() {
             let dangling = face.vertices.iter().any(|&v| v as usize >= vertex_count);
@@ -324,6 +327,17 @@ fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
 
 /// The cloud moved to its bounding-box centre and divided by its largest half-extent, so that
 /// it spans [-1, 1] along at least one axis, with the tolerances that fit it.
+/// At least a tetrahedron's 4, at most `MAX_HULL_POINTS`.
+fn check_point_count(count: usize) -> Result<(), HullError> {
+    if count < 4 {
+        return Err(HullError::TooFewPoints(count));
+    }
+    if count > MAX_HULL_POINTS {
+        return Err(HullError::TooManyPoints(count));
+    }
+    Ok(())
+}
+
 fn normalized(points: &[DVec3]) -> Result<(Vec<DVec3>, Tolerance), HullError> {
     let (min, max) = bounds(points);
     // Halving before subtracting keeps clouds near ±f64::MAX from overflowing.

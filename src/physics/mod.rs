@@ -37,7 +37,7 @@ pub use contact::{Contact, ContactKind, ContactManifold, FeatureId};
 pub use epa::{Penetration, SignedDistance, penetration, signed_distance};
 pub use forces::EnvironmentForce;
 pub use gjk::{GjkResult, PosedShape, SupportMap, gjk_distance, gjk_intersects};
-pub use hull::{ConvexHull, HullError, HullFace};
+pub use hull::{ConvexHull, HullError, HullFace, MAX_HULL_POINTS};
 pub use integrate::Integrator;
 pub use manifold::{contact_manifold, generate_contacts};
 pub use mass::MassProperties;
@@ -47,5 +47,6 @@ pub use snapshot::{SnapshotError, WorldSnapshot};
 pub use stage_times::StageTimes;
 pub use toi::{Rewind, TimeOfImpact, bisection_rewind, conservative_advancement, swept_aabb};
 pub use world::{
-    Fault, MAX_STEP, Pipeline, RemoveError, StepError, World, WorldSettings, WorldTotals,
+    AddBodyError, Fault, MAX_BODIES, MAX_STEP, Pipeline, RemoveError, StepError, World,
+    WorldSettings, WorldTotals,
 };

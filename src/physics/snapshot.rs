@@ -17,7 +17,7 @@ use crate::physics::body::RigidBody;
 use crate::physics::broad_phase::{BroadPhaseKind, Proxy};
 use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::EnvironmentForce;
-use crate::physics::world::{Fault, WorldSettings};
+use crate::physics::world::{Fault, MAX_BODIES, WorldSettings};
 
 /// Raised when the layout of `WorldSnapshot` changes.
 pub const SNAPSHOT_FORMAT: u32 = 1;
@@ -105,6 +105,12 @@ impl WorldSnapshot {
             file: file.to_string(),
             message,
         };
+        let count = self.bodies.len();
+        if count > MAX_BODIES {
+            return Err(inconsistent(format!(
+                "{count} bodies, more than the {MAX_BODIES} a world holds"
+            )));
+        }
         for (index, body) in self.bodies.iter().enumerate() {
             check_body(body).map_err(|message| SnapshotError::Body {
                 file: file.to_string(),
@@ -113,7 +119,6 @@ impl WorldSnapshot {
                 message,
             })?;
         }
-        let count = self.bodies.len();
         if self.proxies.len() > count {
             return Err(inconsistent(format!(
                 "{} broad-phase proxies for {count} bodies",

@@ -91,8 +91,9 @@ struct PointConstraint {
     tangent_mass: [f64; 2],
     impulse: WarmImpulse,
     max_normal_impulse: f64,
-    /// Normal relative velocity at impact (before the step until the contact first pushes):
-    /// what restitution reflects.
+    /// Normal relative velocity at impact, as the speed of the discrete arc (see
+    /// `rebound_speed`); before the step until the contact first pushes. What restitution
+    /// reflects.
     approach_speed: f64,
     /// Relative normal acceleration from the environmental forces, for the impact speed.
     approach_acceleration: f64,
@@ -172,7 +173,12 @@ pub fn step(
         }
         solve(bodies, &mut constraints, h, None);
     }
-    apply_restitution(bodies, &mut constraints, ctx.settings.restitution_threshold);
+    apply_restitution(
+        bodies,
+        &mut constraints,
+        ctx.settings.restitution_threshold,
+        h,
+    );
     for &index in awake {
         bodies[index as usize].clear_accumulators();
     }
@@ -288,8 +294,12 @@ fn solve_normal(
     if c.max_normal_impulse == 0.0 && applied > 0.0 {
         // The contact closes now. Restitution must reflect the speed at which the surfaces
         // meet: the speed at step start misses up to g·dt of fall, and the gap that is
-        // still open would have been crossed while accelerating.
-        c.approach_speed = impact_speed(normal_speed, c.approach_acceleration, separation);
+        // still open would have been crossed while accelerating. The velocity holds this
+        // substep's kick; the bodies are where the substep started before the drift and
+        // where it ended after (the relax pass), which sets the arc speed there.
+        let a = c.approach_acceleration;
+        let arc_speed = normal_speed + if bias.is_some() { -0.5 } else { 0.5 } * a * h;
+        c.approach_speed = impact_speed(arc_speed, a, separation);
     }
     c.impulse.normal = accumulated;
     c.max_normal_impulse = c.max_normal_impulse.max(applied);
@@ -311,22 +321,49 @@ fn solve_friction(bodies: &mut [RigidBody], c: &mut PointConstraint) {
     c.arms.apply(bodies, applied);
 }
 
-/// Newton's restitution on contacts that were approaching faster than the threshold:
-/// the outgoing normal speed becomes −ε times the approach speed.
+/// Newton's restitution on contacts that were approaching faster than the threshold: the
+/// outgoing normal speed becomes ε times the approach speed, as `rebound_speed` reads it
+/// for the substeps of length `h`.
 fn apply_restitution(
     bodies: &mut [RigidBody],
     constraints: &mut [PointConstraint],
     threshold: f64,
+    h: f64,
 ) {
     for c in constraints.iter_mut() {
         if c.restitution == 0.0 || c.approach_speed > -threshold || c.max_normal_impulse == 0.0 {
             continue;
         }
+        let gap = current_separation(bodies, c).max(0.0);
         let normal_speed = c.normal.dot(c.arms.relative_velocity(bodies));
-        let delta = -c.normal_mass * (normal_speed + c.restitution * c.approach_speed);
+        let delta = -c.normal_mass * (normal_speed - rebound_speed(c, gap, h));
         let accumulated = (c.impulse.normal + delta).max(0.0);
         let applied = accumulated - c.impulse.normal;
         c.impulse.normal = accumulated;
         c.arms.apply(bodies, c.normal * applied);
     }
+}
+
+/// The normal speed a bounce leaves with, `gap` apart, under the relative acceleration a.
+///
+/// A substep (kick v += a h, then drift x += v h) conserves ½ (v + ½ a h)² − a·x exactly
+/// under a constant a, x the position after the drift and v the velocity it drifted with:
+/// the discrete arc rises and falls with the speed w = v + ½ a h, not v. The law is applied
+/// to w, w_out = −ε w_in (the approach speed is kept as w); reflecting v instead would lose
+/// (1 + ε)·½|a|h of launch speed at every bounce (C2 apexes 3.7 % low by bounce 3 at 8
+/// substeps). The bodies leave from the end of the step, so v_out = w_out − ½ a h.
+///
+/// The speculative contact may stop the bodies short of each other: the last substep then
+/// leaves a gap the next step would close. The rebound gets the speed it has at that gap,
+/// √(w_out² + 2 a s) as `impact_speed` mirrored; leaving at the impact speed from above the
+/// surface would add |a|·s of height.
+fn rebound_speed(c: &PointConstraint, gap: f64, h: f64) -> f64 {
+    let a = c.approach_acceleration;
+    let at_surface = -c.restitution * c.approach_speed;
+    let at_gap = if a < 0.0 {
+        (at_surface * at_surface + 2.0 * a * gap).max(0.0).sqrt()
+    } else {
+        at_surface
+    };
+    at_gap - 0.5 * a * h
 }

@@ -97,6 +97,19 @@ impl Default for World {
 /// that a typo (a dt in milliseconds) is caught.
 pub const MAX_STEP: f64 = 1.0;
 
+/// Most bodies a world holds, removed ones included (their slots keep the other ids valid).
+/// Scenes share the limit: beyond it a count is almost certainly a typo or a runaway loop,
+/// and building the bodies would only exhaust memory.
+pub const MAX_BODIES: usize = 100_000;
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum AddBodyError {
+    #[error(transparent)]
+    Invalid(#[from] BodyError),
+    #[error("the world already holds {MAX_BODIES} bodies, the most it takes")]
+    TooManyBodies,
+}
+
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum RemoveError {
     #[error("there is no body {0}")]
@@ -190,8 +203,12 @@ impl World {
         })
     }
 
-    /// Adds a body; the description is validated first.
-    pub fn add_body(&mut self, desc: BodyDesc) -> Result<BodyId, BodyError> {
+    /// Adds a body; the description is validated first, and a world already holding
+    /// `MAX_BODIES` bodies refuses it.
+    pub fn add_body(&mut self, desc: BodyDesc) -> Result<BodyId, AddBodyError> {
+        if self.bodies.len() >= MAX_BODIES {
+            return Err(AddBodyError::TooManyBodies);
+        }
         let body = RigidBody::from_desc(&desc)?;
         let id = BodyId(self.bodies.len() as u32);
         self.bodies.push(body);

@@ -1,7 +1,8 @@
 //! Scene → engine: body descriptions and the `World`.
 
 use crate::physics::{
-    BodyDesc, BodyError, EnvironmentForce, Material, Motion, RigidBody, World, WorldSettings,
+    AddBodyError, BodyDesc, BodyError, EnvironmentForce, MAX_BODIES, Material, Motion, RigidBody,
+    World, WorldSettings,
 };
 use crate::scene::error::{FieldError, SceneError, body_label};
 use crate::scene::expand;
@@ -23,9 +24,21 @@ impl Scene {
         for desc in descs {
             world
                 .add_body(desc)
-                .map_err(|error| body_error(&self.origin, error))?;
+                .map_err(|error| self.add_error(error))?;
         }
         Ok(world)
+    }
+
+    /// `body_descs` checked the count against the same limit, so this is never expected.
+    fn add_error(&self, error: AddBodyError) -> SceneError {
+        match error {
+            AddBodyError::Invalid(error) => body_error(&self.origin, error),
+            AddBodyError::TooManyBodies => SceneError::TooManyBodies {
+                file: self.origin.clone(),
+                count: self.body_count(),
+                limit: MAX_BODIES,
+            },
+        }
     }
 
     /// Every body the scene makes, generators expanded, each checked. This is the whole

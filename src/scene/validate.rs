@@ -11,9 +11,8 @@ use crate::physics::shape::{MAX_EXTENT, MIN_EXTENT};
 use crate::scene::error::{FieldError, SceneError};
 use crate::scene::file::{Camera, ForceSpec, Scene};
 
-/// Most bodies a scene may create, generators included: beyond this a scene is almost
-/// certainly a typo in a `count`, and building it would only exhaust memory.
-pub const MAX_BODIES: usize = 100_000;
+/// Most bodies a scene may create, generators included: the most a world holds.
+pub use crate::physics::MAX_BODIES;
 
 /// Accepted time steps, s: below a microsecond nothing visible ever happens, above 0.1 s the
 /// integrators are no longer meaningful for bodies of everyday size.
