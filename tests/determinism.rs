@@ -144,6 +144,10 @@ fn a_saved_world_continues_as_if_never_stopped() {
     let mut restored = Simulation::new("falling_box").unwrap();
     restored.apply(Command::LoadWorld(path));
     assert_eq!(restored.settings().dt, live.settings().dt);
+    // The scene's material names come back with the world, so the panel edits the same sets.
+    let materials = |sim: &Simulation| sim.snapshot(web_time::Instant::now()).materials;
+    assert_eq!(materials(&restored), materials(&live));
+    assert!(materials(&live).iter().any(|m| m.name == "steel"));
     for _ in 0..150 {
         live.step();
         restored.step();

@@ -68,6 +68,22 @@ impl Scene {
             .collect()
     }
 
+    /// For each body the scene makes (in `build_world` order), the name of its material: a key
+    /// of `materials`, or `own: BODY` for a material written inline in the body.
+    pub fn material_names(&self) -> Vec<String> {
+        self.bodies
+            .iter()
+            .flat_map(|body| {
+                let count = expand::count(body.repeat.as_ref()) as usize;
+                let name = match &body.material {
+                    MaterialRef::Named(name) => name.clone(),
+                    MaterialRef::Inline(_) => format!("own: {}", body.name),
+                };
+                std::iter::repeat_n(name, count)
+            })
+            .collect()
+    }
+
     /// The number of bodies the scene makes, generators expanded.
     pub fn body_count(&self) -> u64 {
         self.bodies

@@ -55,6 +55,12 @@ pub enum Command {
     SetRestitution(f64),
     /// Sets the friction coefficient of every body, and of bodies spawned later.
     SetFriction(f64),
+    /// Sets restitution and friction of the bodies made of the scene's material `name`.
+    SetMaterial {
+        name: String,
+        restitution: f64,
+        friction: f64,
+    },
     /// Fixed step, s.
     SetDt(f64),
     /// Simulated seconds per wall-clock second.

@@ -1,5 +1,5 @@
 //! What the viewer saves and loads: the world's snapshot plus what only the viewer knows
-//! about it (the scene it came from, which bodies the scene hides).
+//! about it (the scene it came from, which bodies the scene hides, its material names).
 
 use std::path::Path;
 
@@ -15,6 +15,9 @@ pub struct SavedWorld {
     pub dt: f64,
     /// By body index; bodies past the end are drawn.
     pub hidden: Vec<bool>,
+    /// By body index, the scene's material names (absent in worlds saved before they were).
+    #[serde(default)]
+    pub materials: Vec<String>,
     pub world: WorldSnapshot,
 }
 

@@ -21,6 +21,8 @@ pub struct SceneSetup {
     pub camera: CameraHint,
     /// Per body index: simulated but not drawn.
     pub hidden: Vec<bool>,
+    /// Per body index: the scene's name for its material (the panel edits them by name).
+    pub materials: Vec<String>,
 }
 
 /// The names of the built-in scenes, in the order the viewer lists them.
@@ -35,6 +37,7 @@ pub fn build(name_or_path: &str) -> Result<SceneSetup, String> {
     let world = loaded.build_world().map_err(|e| e.to_string())?;
     Ok(SceneSetup {
         hidden: loaded.hidden_bodies(),
+        materials: loaded.material_names(),
         world,
         camera: CameraHint {
             eye: loaded.camera.eye.as_vec3(),

@@ -19,9 +19,12 @@ use crate::sim::recording::{RecordedCommand, Recording};
 use crate::sim::saved_world::SavedWorld;
 use crate::sim::scenes::{self, CameraHint};
 use crate::sim::snapshot::{
-    BodyPose, BodyState, Counters, HistorySample, LineSegment, MAX_FAULTS_SHOWN, ShapeTable,
-    SimSettings, Snapshot,
+    BodyPose, BodyState, Counters, HistorySample, LineSegment, MAX_FAULTS_SHOWN, MaterialSummary,
+    ShapeTable, SimSettings, Snapshot,
 };
+
+/// The material name of bodies spawned from the panel.
+const SPAWNED_MATERIAL: &str = "spawned";
 use crate::sim::spawn;
 
 /// Simulated seconds between two plotted samples, and how many are kept (20 s of history).
@@ -56,6 +59,8 @@ pub struct Simulation {
     previous: Vec<BodyPose>,
     /// Bodies the scene hides; spawned bodies are always drawn.
     hidden: Vec<bool>,
+    /// Per body index: its material's name in the scene (`SPAWNED_MATERIAL` for spawns).
+    materials: Vec<String>,
     history: VecDeque<HistorySample>,
     rate: RateMeter,
     /// The last command that could not be applied, shown by the UI.
@@ -98,6 +103,7 @@ impl Simulation {
             shape_ids: Vec::new(),
             previous: Vec::new(),
             hidden: Vec::new(),
+            materials: Vec::new(),
             history: VecDeque::new(),
             rate: RateMeter::default(),
             message: None,
@@ -160,6 +166,11 @@ impl Simulation {
                 self.set_material(e.clamp(0.0, 1.0), self.settings.friction)
             }
             Command::SetFriction(mu) => self.set_material(self.settings.restitution, mu.max(0.0)),
+            Command::SetMaterial {
+                name,
+                restitution,
+                friction,
+            } => self.set_named_material(&name, restitution, friction),
             Command::SetDt(dt) => self.settings.dt = dt.clamp(DT_RANGE.0, DT_RANGE.1),
             Command::SetTimeScale(s) => {
                 self.settings.time_scale = s.clamp(TIME_SCALE_RANGE.0, TIME_SCALE_RANGE.1)
@@ -277,6 +288,7 @@ impl Simulation {
             broad_phase_cells: broad_phase_cells(&self.world),
             lines: contact_lines(&self.world),
             counters: self.counters(),
+            materials: self.material_summaries(),
             history: self.history.iter().copied().collect(),
             settings: self.settings,
             message: self.message.clone(),
@@ -332,6 +344,7 @@ impl Simulation {
             scene: self.scene.clone(),
             dt: self.settings.dt,
             hidden: self.hidden.clone(),
+            materials: self.materials.clone(),
             world: self.world.to_snapshot(),
         };
         self.message = saved.save(path).err();
@@ -351,6 +364,7 @@ impl Simulation {
                     world,
                     camera,
                     hidden: saved.hidden,
+                    materials: saved.materials,
                 },
             ))
         });
@@ -376,6 +390,7 @@ impl Simulation {
         self.world = setup.world;
         self.spawn_boxes = None;
         self.hidden = setup.hidden;
+        self.materials = setup.materials;
         self.apply_world_settings();
         self.settings.gravity = gravity_of(&self.world);
         if let Some(body) = self.world.bodies().iter().find(|b| b.is_dynamic()) {
@@ -413,6 +428,11 @@ impl Simulation {
         };
         self.shape_ids.push(id as u32);
         self.previous.push(pose_of(body));
+        // Scene bodies arrive named by `install`; bodies added later are spawns.
+        if self.materials.len() <= index {
+            self.materials
+                .resize(index + 1, SPAWNED_MATERIAL.to_string());
+        }
     }
 
     fn set_gravity(&mut self, acceleration: DVec3) {
@@ -433,6 +453,37 @@ impl Simulation {
             material.restitution = restitution;
             material.friction = friction;
         }
+    }
+
+    /// Edits the bodies of one material; values that are not finite are ignored.
+    fn set_named_material(&mut self, name: &str, restitution: f64, friction: f64) {
+        if !(restitution.is_finite() && friction.is_finite()) {
+            return;
+        }
+        for (index, material) in self.materials.iter().enumerate() {
+            if material == name {
+                let body = &mut self.world.body_mut(BodyId(index as u32)).material;
+                body.restitution = restitution.clamp(0.0, 1.0);
+                body.friction = friction.max(0.0);
+            }
+        }
+    }
+
+    /// The materials by name with their bodies' current values (those of the first body).
+    fn material_summaries(&self) -> Vec<MaterialSummary> {
+        let mut summaries: Vec<MaterialSummary> = Vec::new();
+        for (name, body) in self.materials.iter().zip(self.world.bodies()) {
+            match summaries.iter_mut().find(|s| s.name == *name) {
+                Some(summary) => summary.bodies += 1,
+                None => summaries.push(MaterialSummary {
+                    name: name.clone(),
+                    restitution: body.material.restitution,
+                    friction: body.material.friction,
+                    bodies: 1,
+                }),
+            }
+        }
+        summaries
     }
 
     fn spawn(&mut self, kind: SpawnKind, position: DVec3, velocity: DVec3) {
@@ -708,6 +759,52 @@ mod tests {
         assert_eq!(shown.fault_count, balls.len());
         let listed: Vec<usize> = shown.faults.iter().map(|f| f.body.index()).collect();
         assert_eq!(listed, balls[3..].to_vec());
+    }
+
+    #[test]
+    fn a_material_is_edited_on_its_own_bodies_only() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        let before = sim.snapshot(Instant::now()).materials;
+        let names: Vec<(&str, usize)> =
+            before.iter().map(|m| (m.name.as_str(), m.bodies)).collect();
+        assert_eq!(names, [("concrete", 2), ("wood", 1)]);
+        sim.apply(Command::SetMaterial {
+            name: "concrete".into(),
+            restitution: 0.9,
+            friction: 1.2,
+        });
+        let bodies = sim.world().bodies();
+        let concrete = [&bodies[0], &bodies[1]];
+        assert!(concrete.iter().all(|b| b.material.restitution == 0.9));
+        assert!(concrete.iter().all(|b| b.material.friction == 1.2));
+        assert_eq!(bodies[2].material, sim_scene_material("falling_box", 2));
+        // Out-of-range values are clamped, non-finite ones ignored.
+        sim.apply(Command::SetMaterial {
+            name: "wood".into(),
+            restitution: 3.0,
+            friction: -1.0,
+        });
+        sim.apply(Command::SetMaterial {
+            name: "wood".into(),
+            restitution: f64::NAN,
+            friction: 0.1,
+        });
+        let wood = &sim.world().bodies()[2].material;
+        assert_eq!((wood.restitution, wood.friction), (1.0, 0.0));
+        let shown = sim.snapshot(Instant::now()).materials;
+        assert_eq!((shown[0].restitution, shown[0].friction), (0.9, 1.2));
+        // Spawned bodies make a material of their own.
+        sim.apply(Command::Spawn {
+            kind: SpawnKind::Sphere,
+            position: DVec3::new(0.0, 6.0, 0.0),
+            velocity: DVec3::ZERO,
+        });
+        let shown = sim.snapshot(Instant::now()).materials;
+        assert_eq!((shown[2].name.as_str(), shown[2].bodies), ("spawned", 1));
+    }
+
+    fn sim_scene_material(scene: &str, body: usize) -> Material {
+        Simulation::new(scene).unwrap().world().bodies()[body].material
     }
 
     #[test]

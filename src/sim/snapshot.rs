@@ -105,6 +105,16 @@ pub struct HistorySample {
     pub max_penetration: f64,
 }
 
+/// One of the scene's materials as its bodies have it now.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaterialSummary {
+    pub name: String,
+    pub restitution: f64,
+    pub friction: f64,
+    /// Bodies made of it.
+    pub bodies: usize,
+}
+
 /// The settings in force, so the UI shows what the simulation really uses.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SimSettings {
@@ -136,6 +146,8 @@ pub struct Snapshot {
     /// Contact points (small crosses) and normals of the last step.
     pub lines: Vec<LineSegment>,
     pub counters: Counters,
+    /// The materials by name, in the order their first body appears.
+    pub materials: Vec<MaterialSummary>,
     pub history: Vec<HistorySample>,
     pub settings: SimSettings,
     /// Why the last command failed (an unknown scene, an invalid spawn), if it did.

@@ -88,6 +88,7 @@ impl Panel {
             self.spawn_section(ui, snapshot, &mut commands);
             ui.separator();
             self.world_section(ui, &mut commands);
+            materials_section(ui, snapshot, &mut commands);
             ui.separator();
             self.overlay_section(ui);
             ui.separator();
@@ -308,6 +309,31 @@ fn files_row(ui: &mut egui::Ui, out: &mut Vec<Command>) {
             )));
         }
     });
+}
+
+/// Restitution and friction per material of the scene, folded by default (the sliders
+/// above set every body at once).
+fn materials_section(ui: &mut egui::Ui, snapshot: &Snapshot, out: &mut Vec<Command>) {
+    egui::CollapsingHeader::new("Materials")
+        .default_open(false)
+        .show(ui, |ui| {
+            for material in &snapshot.materials {
+                ui.label(format!("{} ({} bodies)", material.name, material.bodies));
+                let (mut e, mut mu) = (material.restitution, material.friction);
+                let changed = ui
+                    .add(egui::Slider::new(&mut e, 0.0..=1.0).text("restitution"))
+                    .changed()
+                    | ui.add(egui::Slider::new(&mut mu, 0.0..=2.0).text("friction"))
+                        .changed();
+                if changed {
+                    out.push(Command::SetMaterial {
+                        name: material.name.clone(),
+                        restitution: e,
+                        friction: mu,
+                    });
+                }
+            }
+        });
 }
 
 /// Bodies whose state went non-finite: the world isolated them (they no longer move, touch
