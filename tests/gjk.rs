@@ -3,10 +3,12 @@
 mod common;
 
 use common::*;
+use std::sync::Arc;
+
 use glam::{DMat3, DQuat, DVec3};
 use proptest::prelude::*;
 use rigid::physics::gjk::{GJK_MAX_ITERATIONS, SupportMap};
-use rigid::physics::{PosedShape, Shape, gjk_distance, gjk_intersects, penetration};
+use rigid::physics::{ConvexHull, PosedShape, Shape, gjk_distance, gjk_intersects, penetration};
 
 #[derive(Clone, Debug)]
 enum Spec {
@@ -16,6 +18,8 @@ enum Spec {
     Cylinder(f64, f64),
     BoxHull(DVec3),
     Octahedron(DVec3),
+    /// Quickhull of a random point cloud: irregular faces, slivers, many vertices.
+    Cloud(Arc<ConvexHull>),
 }
 
 impl Spec {
@@ -27,6 +31,17 @@ impl Spec {
             Spec::Cylinder(h, r) => Shape::cylinder(*h, *r),
             Spec::BoxHull(h) => hull_shape(box_hull(*h)),
             Spec::Octahedron(h) => hull_shape(octahedron_hull(*h)),
+            Spec::Cloud(hull) => Shape::ConvexHull(hull.clone()),
+        }
+    }
+
+    /// The shape as a polyhedron (vertices, faces' vertex lists, edges), if it is one.
+    fn polyhedron(&self) -> Option<ConvexHull> {
+        match self {
+            Spec::Cuboid(h) | Spec::BoxHull(h) => Some(box_hull(*h)),
+            Spec::Octahedron(h) => Some(octahedron_hull(*h)),
+            Spec::Cloud(hull) => Some((**hull).clone()),
+            _ => None,
         }
     }
 
@@ -36,6 +51,7 @@ impl Spec {
         let hull = match self {
             Spec::Cuboid(h) | Spec::BoxHull(h) => box_hull(*h),
             Spec::Octahedron(h) => octahedron_hull(*h),
+            Spec::Cloud(hull) => (**hull).clone(),
             Spec::Sphere(r) => return ((vec![DVec3::ZERO], vec![], vec![]), *r),
             Spec::Capsule(h, r) => {
                 let ends = vec![DVec3::Y * *h, -DVec3::Y * *h];
@@ -72,8 +88,35 @@ fn extents() -> impl Strategy<Value = DVec3> {
     (extent(), extent(), extent()).prop_map(|(x, y, z)| DVec3::new(x, y, z))
 }
 
+/// 4 to 40 random points in a random box; clouds quickhull rejects (flat ones) are redrawn.
+fn cloud() -> impl Strategy<Value = Spec> {
+    (
+        extents(),
+        prop::collection::vec((-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64), 4..40),
+    )
+        .prop_filter_map("degenerate cloud", |(h, points)| {
+            let points: Vec<DVec3> = points
+                .into_iter()
+                .map(|(x, y, z)| DVec3::new(x, y, z) * h)
+                .collect();
+            ConvexHull::from_points(&points)
+                .ok()
+                .map(|hull| Spec::Cloud(Arc::new(hull)))
+        })
+}
+
+/// Convex polyhedra only (boxes, octahedra, point-cloud hulls), for the SAT reference.
+fn polyhedron_spec() -> impl Strategy<Value = Spec> {
+    prop_oneof![
+        extents().prop_map(Spec::BoxHull),
+        extents().prop_map(Spec::Octahedron),
+        cloud(),
+    ]
+}
+
 fn spec() -> impl Strategy<Value = Spec> {
     prop_oneof![
+        cloud(),
         extent().prop_map(Spec::Sphere),
         extents().prop_map(Spec::Cuboid),
         (extent(), extent()).prop_map(|(h, r)| Spec::Capsule(h, r)),
@@ -331,6 +374,18 @@ proptest! {
     }
 
     #[test]
+    fn intersection_agrees_with_sat_for_polyhedra(
+        sa in polyhedron_spec(), sb in polyhedron_spec(), pa in pose(), pb in pose(),
+    ) {
+        let (a, b) = (sa.polyhedron().unwrap(), sb.polyhedron().unwrap());
+        let sat = polyhedron_sat(&a, pa, &b, pb);
+        prop_assume!(sat.abs() > 1e-9 * sa.size().max(sb.size()));
+        let (shape_a, shape_b) = (sa.shape(), sb.shape());
+        let gjk = gjk_intersects(&posed(&shape_a, pa), &posed(&shape_b, pb));
+        prop_assert_eq!(gjk, sat < 0.0, "sat separation {}", sat);
+    }
+
+    #[test]
     fn intersection_agrees_with_sat_for_boxes(
         ha in extents(), hb in extents(), pa in pose(), pb in pose(),
     ) {
@@ -413,4 +468,48 @@ fn size_ratio_one_to_a_thousand() {
         p.depth
     );
     assert!(p.normal.distance(DVec3::Y) < 1e-9);
+}
+
+/// The separating-axis theorem for two convex polyhedra, written out independently of the
+/// engine: the largest gap between their projections over the face normals of both and the
+/// cross products of every pair of edges. Positive: separated by that much along some axis
+/// (a lower bound on the distance); negative: overlapping.
+fn polyhedron_sat(a: &ConvexHull, pa: (DVec3, DQuat), b: &ConvexHull, pb: (DVec3, DQuat)) -> f64 {
+    let world = |hull: &ConvexHull, (t, q): (DVec3, DQuat)| -> Vec<DVec3> {
+        hull.vertices.iter().map(|v| t + q * *v).collect()
+    };
+    let (va, vb) = (world(a, pa), world(b, pb));
+    let face_normals = |hull: &ConvexHull, v: &[DVec3]| -> Vec<DVec3> {
+        hull.faces
+            .iter()
+            .map(|f| {
+                let [p, q, r] = [0, 1, 2].map(|k| v[f.vertices[k] as usize]);
+                (q - p).cross(r - p)
+            })
+            .collect()
+    };
+    let edges = |hull: &ConvexHull, v: &[DVec3]| -> Vec<DVec3> {
+        hull.edges
+            .iter()
+            .map(|e| v[e[1] as usize] - v[e[0] as usize])
+            .collect()
+    };
+    let mut axes = face_normals(a, &va);
+    axes.extend(face_normals(b, &vb));
+    for ea in edges(a, &va) {
+        axes.extend(edges(b, &vb).iter().map(|eb| ea.cross(*eb)));
+    }
+    let range = |v: &[DVec3], axis: DVec3| {
+        v.iter()
+            .map(|p| p.dot(axis))
+            .fold((f64::MAX, f64::MIN), |(lo, hi), d| (lo.min(d), hi.max(d)))
+    };
+    axes.into_iter()
+        .filter(|axis| axis.length() > 1e-9)
+        .map(|axis| {
+            let axis = axis.normalize();
+            let ((a_lo, a_hi), (b_lo, b_hi)) = (range(&va, axis), range(&vb, axis));
+            (b_lo - a_hi).max(a_lo - b_hi)
+        })
+        .fold(f64::MIN, f64::max)
 }
