@@ -13,6 +13,9 @@
 //! Contacts are kept while their separation is at most `margin`: the report's tolerance θ
 //! between the rewind and the contact search, or a speculative distance.
 
+use std::borrow::Cow;
+use std::sync::LazyLock;
+
 use glam::DVec3;
 
 use crate::physics::body::{BodyId, RigidBody};
@@ -99,19 +102,21 @@ fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> 
 // ---------------------------------------------------------------------------------------
 // Polyhedra: separating axes and clipping.
 
-/// A polyhedron in world coordinates.
-struct Polyhedron {
+/// A polyhedron in world coordinates. Only the vertices and planes are computed per pair;
+/// the topology (face loops, edges, the faces at each edge) is borrowed from the shape, so
+/// building one costs two allocations and no sort for a box.
+struct Polyhedron<'a> {
     vertices: Vec<DVec3>,
-    faces: Vec<Polygon>,
-    edges: Vec<[u32; 2]>,
+    faces: Vec<Polygon<'a>>,
+    edges: &'a [[u32; 2]],
     /// The two faces that meet at each edge; None where the faces do not say (a hand-built
     /// hull whose loops do not close), and such an edge is left to the face axes.
-    edge_faces: Vec<Option<[usize; 2]>>,
+    edge_faces: Cow<'a, [Option<[usize; 2]>]>,
     centroid: DVec3,
 }
 
-struct Polygon {
-    vertices: Vec<u32>,
+struct Polygon<'a> {
+    vertices: &'a [u32],
     normal: DVec3,
     offset: f64,
 }
@@ -140,10 +145,18 @@ const BOX_EDGES: [[u32; 2]; 12] = [
     [3, 7],
 ];
 
-impl Polyhedron {
-    fn of(posed: &PosedShape) -> Option<Polyhedron> {
+/// The faces at each edge of every box: the same table for all of them.
+static BOX_EDGE_FACES: LazyLock<Vec<Option<[usize; 2]>>> = LazyLock::new(|| {
+    faces_at_edges(
+        BOX_FACES.iter().map(|(loop_, _)| loop_.as_slice()),
+        &BOX_EDGES,
+    )
+});
+
+impl<'a> Polyhedron<'a> {
+    fn of(posed: &PosedShape<'a>) -> Option<Polyhedron<'a>> {
         let to_world = |p: DVec3| posed.to_world(p);
-        let face = |indices: Vec<u32>, local_normal: DVec3, vertices: &[DVec3]| {
+        let face = |indices: &'a [u32], local_normal: DVec3, vertices: &[DVec3]| {
             let normal = posed.rotation * local_normal;
             Polygon {
                 offset: normal.dot(vertices[indices[0] as usize]),
@@ -151,31 +164,33 @@ impl Polyhedron {
                 normal,
             }
         };
-        let (vertices, faces, edges): (Vec<DVec3>, Vec<Polygon>, Vec<[u32; 2]>) = match posed.shape
-        {
-            Shape::Cuboid { half_extents } => {
-                let vertices: Vec<DVec3> = (0..8)
-                    .map(|i| to_world(box_corner(*half_extents, i)))
-                    .collect();
-                let faces = BOX_FACES
-                    .iter()
-                    .map(|(indices, normal)| face(indices.to_vec(), *normal, &vertices))
-                    .collect();
-                (vertices, faces, BOX_EDGES.to_vec())
-            }
-            Shape::ConvexHull(hull) => {
-                let vertices: Vec<DVec3> = hull.vertices.iter().map(|&p| to_world(p)).collect();
-                let faces = hull
-                    .faces
-                    .iter()
-                    .map(|f| face(f.vertices.clone(), f.normal, &vertices))
-                    .collect();
-                (vertices, faces, hull.edges.clone())
-            }
-            _ => return None,
-        };
+        let (vertices, faces, edges, edge_faces): (Vec<DVec3>, Vec<Polygon>, _, _) =
+            match posed.shape {
+                Shape::Cuboid { half_extents } => {
+                    let vertices: Vec<DVec3> = (0..8)
+                        .map(|i| to_world(box_corner(*half_extents, i)))
+                        .collect();
+                    let faces = BOX_FACES
+                        .iter()
+                        .map(|(indices, normal)| face(indices, *normal, &vertices))
+                        .collect();
+                    let edge_faces = Cow::Borrowed(BOX_EDGE_FACES.as_slice());
+                    (vertices, faces, BOX_EDGES.as_slice(), edge_faces)
+                }
+                Shape::ConvexHull(hull) => {
+                    let vertices: Vec<DVec3> = hull.vertices.iter().map(|&p| to_world(p)).collect();
+                    let faces = hull
+                        .faces
+                        .iter()
+                        .map(|f| face(&f.vertices, f.normal, &vertices))
+                        .collect();
+                    let loops = hull.faces.iter().map(|f| f.vertices.as_slice());
+                    let edge_faces = Cow::Owned(faces_at_edges(loops, &hull.edges));
+                    (vertices, faces, hull.edges.as_slice(), edge_faces)
+                }
+                _ => return None,
+            };
         let centroid = vertices.iter().sum::<DVec3>() / vertices.len() as f64;
-        let edge_faces = faces_at_edges(&faces, &edges);
         Some(Polyhedron {
             vertices,
             faces,
@@ -200,15 +215,17 @@ impl Polyhedron {
     }
 }
 
-/// For each edge, the two faces whose loops run along it (one each way).
-fn faces_at_edges(faces: &[Polygon], edges: &[[u32; 2]]) -> Vec<Option<[usize; 2]>> {
-    let mut sides: Vec<(u32, u32, usize)> = faces
-        .iter()
+/// For each edge, the two faces whose loops (vertex indices) run along it (one each way).
+fn faces_at_edges<'f>(
+    loops: impl Iterator<Item = &'f [u32]>,
+    edges: &[[u32; 2]],
+) -> Vec<Option<[usize; 2]>> {
+    let mut sides: Vec<(u32, u32, usize)> = loops
         .enumerate()
         .flat_map(|(f, face)| {
-            let n = face.vertices.len();
+            let n = face.len();
             (0..n).map(move |k| {
-                let (i, j) = (face.vertices[k], face.vertices[(k + 1) % n]);
+                let (i, j) = (face[k], face[(k + 1) % n]);
                 (i.min(j), i.max(j), f)
             })
         })
