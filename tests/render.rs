@@ -283,9 +283,27 @@ fn count_near(image: &RgbaImage, color: [f32; 3]) -> usize {
         .count()
 }
 
+/// Asserts that the overlay `on` turns on draws more than `at_least` pixels of its colour,
+/// and that with it off (`off`) fewer than 20 pixels have that colour.
+fn assert_overlay_draws(
+    snapshot: &Snapshot,
+    (on, off): (Overlays, Overlays),
+    colour: [f32; 3],
+    at_least: usize,
+    what: &str,
+) {
+    let gpu = gpu();
+    let with = count_near(&render(&gpu, snapshot, on), colour);
+    let without = count_near(&render(&gpu, snapshot, off), colour);
+    assert!(
+        with > at_least,
+        "{what} drew only {with} pixels of its colour"
+    );
+    assert!(without < 20, "{without} {what}-coloured pixels with it off");
+}
+
 #[test]
 fn aabb_overlay_draws_its_colour_only_when_on() {
-    let gpu = gpu();
     let snapshot = simulate("falling_box", 30);
     let on = Overlays {
         aabbs: true,
@@ -295,21 +313,11 @@ fn aabb_overlay_draws_its_colour_only_when_on() {
         aabbs: false,
         ..Overlays::default()
     };
-    let with = count_near(&render(&gpu, &snapshot, on), AABB_COLOR);
-    let without = count_near(&render(&gpu, &snapshot, off), AABB_COLOR);
-    assert!(
-        with > 500,
-        "AABB overlay drew only {with} pixels of its colour"
-    );
-    assert!(
-        without < 20,
-        "{without} AABB-coloured pixels with the overlay off"
-    );
+    assert_overlay_draws(&snapshot, (on, off), AABB_COLOR, 500, "AABB overlay");
 }
 
 #[test]
 fn broad_phase_overlay_draws_the_awake_boxes_only_when_on() {
-    let gpu = gpu();
     // The box is still falling, so it is awake and has a broad-phase box.
     let snapshot = simulate("falling_box", 30);
     assert!(!snapshot.broad_phase_boxes.is_empty());
@@ -317,24 +325,18 @@ fn broad_phase_overlay_draws_the_awake_boxes_only_when_on() {
         broad_phase: true,
         ..Overlays::default()
     };
-    let with = count_near(&render(&gpu, &snapshot, on), BROAD_PHASE_COLOR);
-    let without = count_near(
-        &render(&gpu, &snapshot, Overlays::default()),
+    let overlays = (on, Overlays::default());
+    assert_overlay_draws(
+        &snapshot,
+        overlays,
         BROAD_PHASE_COLOR,
-    );
-    assert!(
-        with > 200,
-        "broad-phase overlay drew only {with} pixels of its colour"
-    );
-    assert!(
-        without < 20,
-        "{without} broad-phase-coloured pixels with the overlay off"
+        200,
+        "broad-phase overlay",
     );
 }
 
 #[test]
 fn broad_phase_overlay_draws_the_uniform_grid_cells_in_use() {
-    let gpu = gpu();
     let mut sim = Simulation::new("falling_box").unwrap();
     sim.apply(Command::SetBroadPhase(BroadPhaseKind::UniformGrid {
         cell_size: 1.0,
@@ -350,18 +352,13 @@ fn broad_phase_overlay_draws_the_uniform_grid_cells_in_use() {
         broad_phase: true,
         ..Overlays::default()
     };
-    let with = count_near(&render(&gpu, &snapshot, on), GRID_CELL_COLOR);
-    let without = count_near(
-        &render(&gpu, &snapshot, Overlays::default()),
+    let overlays = (on, Overlays::default());
+    assert_overlay_draws(
+        &snapshot,
+        overlays,
         GRID_CELL_COLOR,
-    );
-    assert!(
-        with > 200,
-        "grid cells drew only {with} pixels of their colour"
-    );
-    assert!(
-        without < 20,
-        "{without} cell-coloured pixels with the overlay off"
+        200,
+        "grid-cell overlay",
     );
 }
 
