@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 
-use crate::bench::{Measurement, median_time};
+use crate::bench::{DTS, Measurement, median_time};
 use crate::physics::{BodyDesc, EnvironmentForce, Integrator, Shape, World, WorldSettings};
 
 /// A world stepping in one substep: the integrator alone, with no contact solver around it.
@@ -16,15 +16,6 @@ fn integrator_world(integrator: Integrator) -> World {
     world.settings.solver.substeps = 1;
     world
 }
-
-pub const DTS: [f64; 6] = [
-    1.0 / 30.0,
-    1.0 / 60.0,
-    1.0 / 120.0,
-    1.0 / 240.0,
-    1.0 / 480.0,
-    1.0 / 960.0,
-];
 
 const REPEATS: usize = 5;
 

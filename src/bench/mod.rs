@@ -15,6 +15,16 @@ pub mod svg_plot;
 
 use std::time::Instant;
 
+/// The steps every work-precision sweep runs, s: 1/30 halved five times.
+pub const DTS: [f64; 6] = [
+    1.0 / 30.0,
+    1.0 / 60.0,
+    1.0 / 120.0,
+    1.0 / 240.0,
+    1.0 / 480.0,
+    1.0 / 960.0,
+];
+
 /// One measured configuration of one case.
 #[derive(Clone, Debug)]
 pub struct Measurement {
@@ -39,8 +49,26 @@ pub fn median_time<T>(repeats: usize, mut work: impl FnMut() -> T) -> (T, f64) {
     (result.expect("ran at least once"), times[times.len() / 2])
 }
 
+/// The items no other beats on both cost and error, cheapest first. `cost_error` gives an
+/// item's (cost, error); lower is better in both.
+pub fn pareto_front<T>(items: &[T], cost_error: impl Fn(&T) -> (f64, f64)) -> Vec<&T> {
+    let dominates = |q: (f64, f64), p: (f64, f64)| q.0 <= p.0 && q.1 <= p.1 && q != p;
+    let mut front: Vec<&T> = items
+        .iter()
+        .filter(|p| {
+            !items
+                .iter()
+                .any(|q| dominates(cost_error(q), cost_error(p)))
+        })
+        .collect();
+    front.sort_by(|a, b| cost_error(a).0.total_cmp(&cost_error(b).0));
+    front
+}
+
 /// A Markdown table of measurements.
 pub fn markdown_table(rows: &[Measurement], error_label: &str) -> String {
+    // Norms are written |x|: escape the bars so they do not end table cells.
+    let error_label = error_label.replace('|', "\\|");
     let mut out = format!(
         "| case | integrator | dt | {error_label} | µs per simulated s (median) |\n|---|---|---|---|---|\n"
     );
@@ -55,4 +83,16 @@ pub fn markdown_table(rows: &[Measurement], error_label: &str) -> String {
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_pareto_front_keeps_what_nothing_beats_on_both_cheapest_first() {
+        let points = [(4.0, 1.0), (2.0, 3.0), (3.0, 2.0), (1.0, 3.0), (2.0, 2.0)];
+        let front = pareto_front(&points, |&p| p);
+        assert_eq!(front, [&(1.0, 3.0), &(2.0, 2.0), &(4.0, 1.0)]);
+    }
 }

@@ -4,15 +4,15 @@
 //! `cargo run --release --no-default-features --bin bench > bench.md`
 //! `cargo run --release --no-default-features --bin bench -- scaling profile`
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Parser, ValueEnum};
 use rigid::bench::contact_cases::{self, Point};
 use rigid::bench::idle_bodies::{self, IDLE_BODIES, Idle};
 use rigid::bench::scaling::{self, BRUTE_FORCE_LIMIT, COUNTS, KINDS};
 use rigid::bench::svg_plot::{Series, log_log};
-use rigid::bench::{integrators, markdown_table, stage_profile, stress};
-use rigid::physics::Pipeline;
+use rigid::bench::{Measurement, integrators, markdown_table, pareto_front, stage_profile, stress};
+use rigid::physics::{Integrator, Pipeline};
 
 #[derive(Parser)]
 #[command(about = "Benchmarks of the engine: tables on stdout, plots as SVG")]
@@ -38,7 +38,7 @@ fn main() -> Result<(), String> {
     let args = Args::parse();
     let wants = |s: Section| args.sections.is_empty() || args.sections.contains(&s);
     if wants(Section::Integrators) {
-        integrator_tables();
+        integrator_tables(&args.plots)?;
     }
     if wants(Section::Contacts) {
         contact_tables(&args.plots)?;
@@ -58,75 +58,186 @@ fn main() -> Result<(), String> {
     Ok(())
 }
 
-fn integrator_tables() {
+/// An integrator case: (integrator, dt) → its error and cost.
+type IntegratorCase = fn(Integrator, f64) -> Measurement;
+
+fn integrator_tables(plots: &Path) -> Result<(), String> {
     println!("## Integrators: work against precision\n");
-    println!("### C1 free fall, position error after 1 s (m)\n");
-    let c1 = integrators::sweep(integrators::free_fall);
-    println!("{}", markdown_table(&c1, "|y − y_exact| (m)"));
-    println!("### C3 torque-free spin about the intermediate axis, 20 s\n");
-    let c3 = integrators::sweep(integrators::intermediate_axis_spin);
-    println!("{}", markdown_table(&c3, "max |ΔE|/E"));
-}
-
-/// A contact reference case: (pipeline, substeps, dt) → (error, µs per simulated second).
-type ContactCase = fn(Pipeline, u32, f64) -> (f64, f64);
-
-fn contact_tables(plots: &std::path::Path) -> Result<(), String> {
-    println!("## Contact pipelines: work against precision\n");
-    let cases: [(&str, &str, ContactCase); 2] = [
+    let cases: [(&str, &str, &str, IntegratorCase); 2] = [
         (
-            "C2 bounce, worst relative apex error of bounces 1–3",
-            "c2_bounce",
-            contact_cases::bounce,
+            "C1 free fall, position error after 1 s (m)",
+            "c1_free_fall",
+            "|y − y_exact| (m)",
+            integrators::free_fall,
         ),
         (
-            "C4 slide, relative error of the stopping distance",
-            "c4_slide",
-            contact_cases::slide,
+            "C3 torque-free spin about the intermediate axis, 20 s",
+            "c3_spin",
+            "max |ΔE|/E",
+            integrators::intermediate_axis_spin,
         ),
     ];
-    for (title, file, case) in cases {
-        let points = contact_cases::sweep(case);
+    for (title, file, error_label, case) in cases {
         println!("### {title}\n");
-        println!(
-            "| pipeline | substeps | dt | error | µs per simulated s |\n|---|---|---|---|---|"
-        );
-        for p in &points {
-            println!(
-                "| {} | {} | 1/{:.0} | {:.2e} | {:.0} |",
-                pipeline_name(p.pipeline),
-                p.substeps,
-                1.0 / p.dt,
-                p.error,
-                p.micros_per_second
-            );
-        }
-        let front = contact_cases::pareto_front(&points);
-        let front_text: Vec<String> = front.iter().map(|p| describe(p)).collect();
-        println!(
-            "\nPareto front (cheapest first): {}\n",
-            front_text.join(" → ")
-        );
-        let series = [Pipeline::Soft, Pipeline::Classic]
-            .into_iter()
-            .flat_map(|pipeline| {
-                contact_cases::SUBSTEPS
-                    .into_iter()
-                    .map(move |substeps| (pipeline, substeps))
-            })
-            .map(|(pipeline, substeps)| Series {
-                name: format!("{} ×{substeps}", pipeline_name(pipeline)),
-                points: points
-                    .iter()
-                    .filter(|p| p.pipeline == pipeline && p.substeps == substeps)
-                    .map(|p| (p.micros_per_second, p.error.max(1e-6)))
-                    .collect(),
-            })
-            .collect::<Vec<_>>();
-        let svg = log_log(title, "µs per simulated second", "relative error", &series);
-        write_plot(plots, &format!("{file}.svg"), &svg)?;
+        integrator_case(plots, title, file, error_label, case)?;
     }
     Ok(())
+}
+
+/// One integrator case: its table, its Pareto front and its plot.
+fn integrator_case(
+    plots: &Path,
+    title: &str,
+    file: &str,
+    error_label: &str,
+    case: IntegratorCase,
+) -> Result<(), String> {
+    let rows = integrators::sweep(case);
+    println!("{}", markdown_table(&rows, error_label));
+    let front = pareto_front(&rows, |m| (m.micros_per_sim_second, m.error));
+    let text: Vec<String> = front
+        .iter()
+        .map(|m| format!("{} at 1/{:.0} ({:.1e})", m.config, 1.0 / m.dt, m.error))
+        .collect();
+    println!("Pareto front (cheapest first): {}\n", text.join(" → "));
+    let lines = Integrator::ALL
+        .iter()
+        .map(|integrator| {
+            let points = rows.iter().filter(|m| m.config == integrator.name());
+            let points = points.map(|m| (m.micros_per_sim_second, m.error));
+            (integrator.name().to_string(), points.collect())
+        })
+        .collect();
+    let front = front.iter().map(|m| (m.micros_per_sim_second, m.error));
+    let svg = work_precision_plot(title, error_label, lines, front.collect());
+    write_plot(plots, &format!("{file}.svg"), &svg)
+}
+
+fn contact_tables(plots: &Path) -> Result<(), String> {
+    println!("## Contact pipelines: work against precision\n");
+    let mut fronts = Vec::new();
+    for case in &contact_cases::CASES {
+        println!("### {}\n", case.title);
+        let sweep = contact_cases::sweep(case);
+        print_contact_table(case, &sweep.points);
+        print_limits(&sweep);
+        let front = pareto_front(&sweep.points, |p| (p.micros_per_second, p.error));
+        let text: Vec<String> = front.iter().map(|p| describe(p)).collect();
+        println!("Pareto front (cheapest first): {}\n", text.join(" → "));
+        fronts.push((case.title, text.join(" → ")));
+        let lines = contact_lines(&sweep.points);
+        let front = front.iter().map(|p| (p.micros_per_second, p.error));
+        let svg = work_precision_plot(case.title, "relative error", lines, front.collect());
+        write_plot(plots, &format!("{}.svg", case.file), &svg)?;
+    }
+    println!("### Pareto fronts of every contact case\n");
+    println!("| case | front, cheapest first |\n|---|---|");
+    for (title, front) in fronts {
+        println!("| {title} | {front} |");
+    }
+    println!();
+    Ok(())
+}
+
+/// How long the longest run took, and which dts were left out for being too slow.
+fn print_limits(sweep: &contact_cases::Sweep) {
+    let longest = sweep
+        .points
+        .iter()
+        .map(|p| p.run_seconds)
+        .fold(0.0, f64::max);
+    println!(
+        "Longest single run: {longest:.2} s (a line stops before a dt whose run would take \
+         over {} s).\n",
+        contact_cases::MAX_RUN_SECONDS
+    );
+    for (pipeline, substeps, dts) in &sweep.skipped {
+        let dts: Vec<String> = dts.iter().map(|dt| format!("1/{:.0}", 1.0 / dt)).collect();
+        println!(
+            "Left out: {} ×{substeps} at {} (one run would take over {} s).\n",
+            pipeline_name(*pipeline),
+            dts.join(", "),
+            contact_cases::MAX_RUN_SECONDS
+        );
+    }
+}
+
+fn print_contact_table(case: &contact_cases::Case, points: &[Point]) {
+    let (check_head, check_rule) = match case.check {
+        Some((title, _)) => (format!(" {title} |"), "---|"),
+        None => (String::new(), ""),
+    };
+    println!(
+        "| pipeline | substeps | dt | error | µs per simulated s |{check_head}\n\
+         |---|---|---|---|---|{check_rule}"
+    );
+    for p in points {
+        let check = p
+            .check
+            .as_ref()
+            .map(|c| format!(" {c} |"))
+            .unwrap_or_default();
+        println!(
+            "| {} | {} | 1/{:.0} | {:.2e} | {:.0} |{check}",
+            pipeline_name(p.config.pipeline),
+            p.config.substeps,
+            1.0 / p.config.dt,
+            p.error,
+            p.micros_per_second
+        );
+    }
+    println!();
+}
+
+/// One line per pipeline and substep count, across dt: (µs per simulated s, error).
+fn contact_lines(points: &[Point]) -> Vec<(String, Vec<(f64, f64)>)> {
+    let families = contact_cases::PIPELINES.into_iter().flat_map(|pipeline| {
+        let substeps = contact_cases::SUBSTEPS.into_iter();
+        substeps.map(move |substeps| (pipeline, substeps))
+    });
+    families
+        .map(|(pipeline, substeps)| {
+            let on_line =
+                |p: &&Point| p.config.pipeline == pipeline && p.config.substeps == substeps;
+            let points = points.iter().filter(on_line);
+            let name = format!("{} ×{substeps}", pipeline_name(pipeline));
+            (
+                name,
+                points.map(|p| (p.micros_per_second, p.error)).collect(),
+            )
+        })
+        .collect()
+}
+
+/// Error against cost on log axes: one line per configuration family, the Pareto front
+/// over them. Log axes cannot show an error of 0: it is drawn a decade below the smallest
+/// non-zero error (at 1e-6 if every error is 0), and the plot says so.
+fn work_precision_plot(
+    title: &str,
+    error_label: &str,
+    lines: Vec<(String, Vec<(f64, f64)>)>,
+    front: Vec<(f64, f64)>,
+) -> String {
+    let errors = lines
+        .iter()
+        .flat_map(|(_, points)| points.iter().map(|p| p.1));
+    let smallest = errors.clone().filter(|&e| e > 0.0).fold(f64::MAX, f64::min);
+    let floor = match smallest {
+        f64::MAX => 1e-6,
+        e => 10f64.powf(e.log10().floor() - 1.0),
+    };
+    let zeros = errors.clone().any(|e| e <= 0.0);
+    let lift = |points: Vec<(f64, f64)>| points.into_iter().map(|(x, y)| (x, y.max(floor)));
+    let mut series: Vec<Series> = lines
+        .into_iter()
+        .map(|(name, points)| Series::line(name, lift(points).collect()))
+        .collect();
+    series.push(Series::front(lift(front).collect()));
+    let y_label = match zeros {
+        true => format!("{error_label} (0 drawn at {floor:.0e})"),
+        false => error_label.to_string(),
+    };
+    log_log(title, "µs per simulated second", &y_label, &series)
 }
 
 fn pipeline_name(pipeline: Pipeline) -> &'static str {
@@ -139,14 +250,14 @@ fn pipeline_name(pipeline: Pipeline) -> &'static str {
 fn describe(p: &Point) -> String {
     format!(
         "{} ×{} at 1/{:.0} ({:.1e})",
-        pipeline_name(p.pipeline),
-        p.substeps,
-        1.0 / p.dt,
+        pipeline_name(p.config.pipeline),
+        p.config.substeps,
+        1.0 / p.config.dt,
         p.error
     )
 }
 
-fn write_plot(dir: &std::path::Path, name: &str, svg: &str) -> Result<(), String> {
+fn write_plot(dir: &Path, name: &str, svg: &str) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let path = dir.join(name);
     std::fs::write(&path, svg).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -170,16 +281,13 @@ fn idle_table() {
     println!();
 }
 
-fn scaling_table(plots: &std::path::Path) -> Result<(), String> {
+fn scaling_table(plots: &Path) -> Result<(), String> {
     println!("## Scaling: step time against body count (rain into a bin)\n");
     println!("Median of steps 30–90 at 1/60 s, all bodies awake and colliding.\n");
     println!("| bodies | sweep and prune | uniform grid | brute force |\n|---|---|---|---|");
     let mut series: Vec<Series> = KINDS
         .iter()
-        .map(|(name, _)| Series {
-            name: name.to_string(),
-            points: Vec::new(),
-        })
+        .map(|(name, _)| Series::line(*name, Vec::new()))
         .collect();
     for count in COUNTS {
         let mut row = format!("| {count} |");
