@@ -415,3 +415,19 @@ fn a_body_that_goes_non_finite_is_isolated_the_same_step() {
     assert!(totals.kinetic_energy.is_finite() && totals.linear_momentum.is_finite());
     assert_eq!(world.faults().len(), 1, "reported once");
 }
+
+/// The stage profile splits a soft step's integration from its contact solve; the classic
+/// pipeline interleaves them, and counts both under solve.
+#[test]
+fn stage_times_split_integration_from_the_contact_solve() {
+    let mut world = world_with(Integrator::Midpoint, gravity());
+    add(&mut world, BodyDesc::dynamic(Shape::sphere(0.1)));
+    world.step(0.01);
+    let t = world.stage_times();
+    assert!(t.integrate > 0.0, "{t:?}");
+    let sum = t.broad_phase + t.narrow_phase + t.islands + t.solve + t.integrate + t.checks;
+    assert_eq!(t.total(), sum);
+    world.settings.pipeline = rigid::physics::Pipeline::Classic;
+    world.step(0.01);
+    assert_eq!(world.stage_times().integrate, 0.0);
+}

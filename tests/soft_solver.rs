@@ -145,8 +145,8 @@ impl Sim {
         let awake: Vec<u32> = (0..self.bodies.len() as u32)
             .filter(|&i| self.bodies[i as usize].is_awake())
             .collect();
-        let impulses = soft_solver::step(&mut self.bodies, &awake, &contacts, &ctx);
-        self.warm = keys.into_iter().zip(impulses).collect();
+        let step = soft_solver::step(&mut self.bodies, &awake, &contacts, &ctx);
+        self.warm = keys.into_iter().zip(step.impulses).collect();
     }
 }
 

@@ -6,11 +6,13 @@ use crate::scene;
 
 const SECONDS: f64 = 2.0;
 
-pub const SCENES: [&str; 6] = [
+pub const SCENES: [&str; 8] = [
     "falling_box",
     "pachinko",
+    "bounce",
     "stack",
     "pyramid",
+    "dzhanibekov",
     "rain",
     "hulls",
 ];
@@ -28,6 +30,7 @@ pub fn profile(name: &str) -> (StageTimes, usize) {
         sum.narrow_phase += t.narrow_phase;
         sum.islands += t.islands;
         sum.solve += t.solve;
+        sum.integrate += t.integrate;
         sum.checks += t.checks;
     }
     let n = steps as f64;
@@ -36,6 +39,7 @@ pub fn profile(name: &str) -> (StageTimes, usize) {
         narrow_phase: sum.narrow_phase / n,
         islands: sum.islands / n,
         solve: sum.solve / n,
+        integrate: sum.integrate / n,
         checks: sum.checks / n,
     };
     (mean, steps)

@@ -25,6 +25,7 @@ use crate::physics::body::RigidBody;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::impulse::{Arms, clamp_to_friction_disc, tangent_basis};
 use crate::physics::integrate::{self, Integrator};
+use crate::physics::stage_times::Stopwatch;
 
 /// A contact point handed to the solver. The normal points from body `a` to body `b`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -131,15 +132,22 @@ pub struct StepContext<'a> {
     pub dt: f64,
 }
 
+/// What a soft step hands back.
+pub struct SoftStep {
+    /// The impulses each contact ended with (same order as the contacts), for warm starting.
+    pub impulses: Vec<WarmImpulse>,
+    /// Seconds spent on forces and integration, over all substeps (for the stage profile).
+    pub integrate_seconds: f64,
+}
+
 /// Advances the `awake` bodies (ascending indices into `bodies`) by one step of `ctx.dt` with
-/// the given contacts, and returns the impulses each contact ended with (same order as
-/// `contacts`) for warm starting. No other body is visited.
+/// the given contacts. No other body is visited.
 pub fn step(
     bodies: &mut [RigidBody],
     awake: &[u32],
     contacts: &[ContactInput],
     ctx: &StepContext,
-) -> Vec<WarmImpulse> {
+) -> SoftStep {
     let mut constraints: Vec<PointConstraint> = contacts
         .iter()
         .map(|c| prepare(bodies, c, ctx.forces))
@@ -153,7 +161,9 @@ pub fn step(
         .iter()
         .map(|&i| (bodies[i as usize].force, bodies[i as usize].torque))
         .collect();
+    let mut integrate_seconds = 0.0;
     for _ in 0..substeps {
+        let mut clock = Stopwatch::start();
         for (&index, &(force, torque)) in awake.iter().zip(&user_forces) {
             let body = &mut bodies[index as usize];
             body.force = force;
@@ -161,6 +171,7 @@ pub fn step(
             forces::apply_environment(ctx.forces, body);
             integrate::integrate_momenta(body, h);
         }
+        integrate_seconds += clock.lap();
         warm_start(bodies, &constraints);
         solve(
             bodies,
@@ -168,9 +179,11 @@ pub fn step(
             h,
             Some((softness, ctx.settings.max_push_out)),
         );
+        clock.lap();
         for &index in awake {
             integrate::integrate_pose(&mut bodies[index as usize], h, ctx.integrator);
         }
+        integrate_seconds += clock.lap();
         solve(bodies, &mut constraints, h, None);
     }
     apply_restitution(
@@ -182,7 +195,10 @@ pub fn step(
     for &index in awake {
         bodies[index as usize].clear_accumulators();
     }
-    constraints.iter().map(|c| c.impulse).collect()
+    SoftStep {
+        impulses: constraints.iter().map(|c| c.impulse).collect(),
+        integrate_seconds,
+    }
 }
 
 fn environment_acceleration(body: &RigidBody, forces: &[EnvironmentForce]) -> DVec3 {

@@ -14,15 +14,23 @@ pub struct StageTimes {
     pub narrow_phase: f64,
     /// Islands, sleeping and waking.
     pub islands: f64,
-    /// Forces, integration and contacts (either pipeline).
+    /// Contact impulses (either pipeline); with `classic`, its forces and integration too,
+    /// which its event loop interleaves with the impulses.
     pub solve: f64,
+    /// Forces and integration of the awake bodies (with `soft`, summed over its substeps).
+    pub integrate: f64,
     /// Checks for non-finite state, before and after.
     pub checks: f64,
 }
 
 impl StageTimes {
     pub fn total(&self) -> f64 {
-        self.broad_phase + self.narrow_phase + self.islands + self.solve + self.checks
+        self.broad_phase
+            + self.narrow_phase
+            + self.islands
+            + self.solve
+            + self.integrate
+            + self.checks
     }
 }
 

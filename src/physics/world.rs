@@ -310,10 +310,13 @@ impl World {
                 bodies[m.body_a.index()].is_awake() || bodies[m.body_b.index()].is_awake()
             });
             times.islands = clock.lap();
-            match self.settings.pipeline {
+            times.integrate = match self.settings.pipeline {
                 Pipeline::Soft => self.solve(dt),
-                Pipeline::Classic => self.solve_classic(&pairs, dt),
-            }
+                Pipeline::Classic => {
+                    self.solve_classic(&pairs, dt);
+                    0.0
+                }
+            };
         } else {
             self.manifolds.clear();
             self.run_backwards(dt);
@@ -322,7 +325,7 @@ impl World {
                 self.awake_set.touch(index as usize);
             }
         }
-        times.solve = clock.lap();
+        times.solve = (clock.lap() - times.integrate).max(0.0);
         let awake = self.awake_set.awake(&self.bodies).to_vec();
         self.isolate_non_finite(&awake);
         times.checks += clock.lap();
@@ -460,7 +463,8 @@ impl World {
     }
 
     /// Forces, integration and contacts together, in substeps (see `soft_solver`).
-    fn solve(&mut self, dt: f64) {
+    /// The soft pipeline's step; returns the seconds it spent integrating.
+    fn solve(&mut self, dt: f64) -> f64 {
         let inputs = self.contact_cache.solver_inputs(&self.manifolds);
         let ctx = StepContext {
             forces: &self.forces,
@@ -469,8 +473,9 @@ impl World {
             dt,
         };
         let awake = self.awake_set.awake(&self.bodies);
-        let impulses = soft_solver::step(&mut self.bodies, awake, &inputs, &ctx);
-        self.contact_cache.store(&self.manifolds, &impulses);
+        let step = soft_solver::step(&mut self.bodies, awake, &inputs, &ctx);
+        self.contact_cache.store(&self.manifolds, &step.impulses);
+        step.integrate_seconds
     }
 
     /// Bodies isolated so far because their state went non-finite (NaN or infinity).

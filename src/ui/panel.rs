@@ -364,14 +364,19 @@ fn faults(ui: &mut egui::Ui, snapshot: &Snapshot) {
     }
 }
 
+const STAGES_LABEL: &str = "stages (µs)";
+const STAGES_LEGEND: &str =
+    "b broad phase, n narrow phase, i islands and sleep, s contact solve, g integration";
+
 fn stage_times(s: &StageTimes) -> String {
     let us = |seconds: f64| seconds * 1e6;
     format!(
-        "b {:.0} n {:.0} i {:.0} s {:.0}",
+        "b {:.0} n {:.0} i {:.0} s {:.0} g {:.0}",
         us(s.broad_phase),
         us(s.narrow_phase),
         us(s.islands),
-        us(s.solve)
+        us(s.solve),
+        us(s.integrate)
     )
 }
 
@@ -403,7 +408,7 @@ fn counters(ui: &mut egui::Ui, snapshot: &Snapshot, stats: FrameStats) {
         ("|p|", format!("{:.3} N·s", c.linear_momentum)),
         ("|L|", format!("{:.3} N·m·s", c.angular_momentum)),
         ("max overlap", format!("{:.2} mm", c.max_penetration * 1e3)),
-        ("stages (µs)", stage_times(&c.stages)),
+        (STAGES_LABEL, stage_times(&c.stages)),
     ];
     // Short counters two to a row keep the plots in view on a 720-pixel window.
     egui::Grid::new("short counters")
@@ -421,7 +426,10 @@ fn counters(ui: &mut egui::Ui, snapshot: &Snapshot, stats: FrameStats) {
         .num_columns(2)
         .show(ui, |ui| {
             for (name, value) in &singles {
-                ui.label(*name);
+                let label = ui.label(*name);
+                if *name == STAGES_LABEL {
+                    label.on_hover_text(STAGES_LEGEND);
+                }
                 ui.monospace(value);
                 ui.end_row();
             }
