@@ -73,13 +73,17 @@ fn has_failed(document: &Document) -> bool {
         .is_some_and(|state| state == "failed")
 }
 
+/// Names the graphics adapter the viewer draws with, once it has one.
+pub fn publish_adapter(adapter: &str) {
+    set_status("adapter", adapter);
+}
+
 /// Publishes what the viewer is doing, once a frame.
-pub fn publish_status(snapshot: &Snapshot, adapter: &str) {
+pub fn publish_status(snapshot: &Snapshot) {
     if document().is_none_or(|d| has_failed(&d)) {
         return;
     }
     set_status("state", "running");
-    set_status("adapter", adapter);
     set_status("scene", &snapshot.scene);
     set_status("bodies", &snapshot.bodies.len().to_string());
     set_status("steps", &snapshot.counters.steps.to_string());

@@ -5,19 +5,16 @@
 
 #![cfg(feature = "viewer")]
 
+mod common;
+
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+use common::tools::have;
 
-fn have(tool: &str) -> bool {
-    Command::new("sh")
-        .args(["-c", &format!("command -v {tool}")])
-        .output()
-        .is_ok_and(|o| o.status.success())
-}
+const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 /// What is missing to run the browser test, if anything.
 fn missing_tools() -> Vec<&'static str> {

@@ -3,18 +3,15 @@
 
 #![cfg(feature = "viewer")]
 
+mod common;
+
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const XVFB_SCREEN: &str = "-screen 0 1280x720x24";
+use common::tools::have;
 
-fn have(tool: &str) -> bool {
-    Command::new("sh")
-        .args(["-c", &format!("command -v {tool}")])
-        .output()
-        .is_ok_and(|o| o.status.success())
-}
+const XVFB_SCREEN: &str = "-screen 0 1280x720x24";
 
 fn screenshot_path(name: &str) -> PathBuf {
     let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);

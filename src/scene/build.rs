@@ -59,27 +59,25 @@ impl Scene {
 
     /// For each body the scene makes (in `build_world` order), whether it is hidden.
     pub fn hidden_bodies(&self) -> Vec<bool> {
-        self.bodies
-            .iter()
-            .flat_map(|body| {
-                let count = expand::count(body.repeat.as_ref()) as usize;
-                std::iter::repeat_n(body.hidden, count)
-            })
-            .collect()
+        self.per_body(|body| body.hidden)
     }
 
     /// For each body the scene makes (in `build_world` order), the name of its material: a key
     /// of `materials`, or `own: BODY` for a material written inline in the body.
     pub fn material_names(&self) -> Vec<String> {
+        self.per_body(|body| match &body.material {
+            MaterialRef::Named(name) => name.clone(),
+            MaterialRef::Inline(_) => format!("own: {}", body.name),
+        })
+    }
+
+    /// `value` of each body as written, repeated for every body its generator makes.
+    fn per_body<T: Clone>(&self, value: impl Fn(&BodySpec) -> T) -> Vec<T> {
         self.bodies
             .iter()
             .flat_map(|body| {
                 let count = expand::count(body.repeat.as_ref()) as usize;
-                let name = match &body.material {
-                    MaterialRef::Named(name) => name.clone(),
-                    MaterialRef::Inline(_) => format!("own: {}", body.name),
-                };
-                std::iter::repeat_n(name, count)
+                std::iter::repeat_n(value(body), count)
             })
             .collect()
     }

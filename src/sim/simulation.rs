@@ -448,11 +448,7 @@ impl Simulation {
     fn set_material(&mut self, restitution: f64, friction: f64) {
         self.settings.restitution = restitution;
         self.settings.friction = friction;
-        for id in self.world.body_ids() {
-            let material = &mut self.world.body_mut(id).material;
-            material.restitution = restitution;
-            material.friction = friction;
-        }
+        write_material(&mut self.world, |_| true, restitution, friction);
     }
 
     /// Edits the bodies of one material; values that are not finite are ignored.
@@ -460,13 +456,10 @@ impl Simulation {
         if !(restitution.is_finite() && friction.is_finite()) {
             return;
         }
-        for (index, material) in self.materials.iter().enumerate() {
-            if material == name {
-                let body = &mut self.world.body_mut(BodyId(index as u32)).material;
-                body.restitution = restitution.clamp(0.0, 1.0);
-                body.friction = friction.max(0.0);
-            }
-        }
+        let materials = &self.materials;
+        let chosen = |index: usize| materials.get(index).is_some_and(|m| m == name);
+        let (restitution, friction) = (restitution.clamp(0.0, 1.0), friction.max(0.0));
+        write_material(&mut self.world, chosen, restitution, friction);
     }
 
     /// The materials by name with their bodies' current values (those of the first body).
@@ -561,6 +554,22 @@ fn pose_of(body: &RigidBody) -> BodyPose {
     BodyPose {
         position: body.shape_origin().as_vec3(),
         rotation: body.rotation().as_quat(),
+    }
+}
+
+/// Gives the bodies `chosen` picks (by index) this restitution and friction.
+fn write_material(
+    world: &mut World,
+    chosen: impl Fn(usize) -> bool,
+    restitution: f64,
+    friction: f64,
+) {
+    for id in world.body_ids() {
+        if chosen(id.index()) {
+            let material = &mut world.body_mut(id).material;
+            material.restitution = restitution;
+            material.friction = friction;
+        }
     }
 }
 

@@ -301,7 +301,7 @@ impl App {
             Err(e) => return self.fail(event_loop, e),
         }
         #[cfg(target_arch = "wasm32")]
-        crate::web::publish_status(&snapshot, &display.describe());
+        crate::web::publish_status(&snapshot);
         if exiting {
             event_loop.exit();
         }
@@ -355,7 +355,10 @@ impl App {
             Ok(display) => display,
             Err(e) => return self.fail(event_loop, e),
         };
-        eprintln!("rigid: rendering on {}", display.describe());
+        let adapter = display.describe();
+        eprintln!("rigid: rendering on {adapter}");
+        #[cfg(target_arch = "wasm32")]
+        crate::web::publish_adapter(&adapter);
         let window = &display.window;
         self.egui_state = Some(egui_winit::State::new(
             self.egui_ctx.clone(),

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod garble;
+pub mod tools;
 
 use std::sync::Arc;
 
