@@ -4,7 +4,7 @@
 
 use glam::{DQuat, DVec3};
 use rigid::physics::soft_solver::{
-    self, ContactInput, SoftSolverSettings, StepContext, WarmImpulse,
+    self, ContactInput, SoftScratch, SoftSolverSettings, StepContext, WarmImpulse,
 };
 use rigid::physics::{BodyDesc, EnvironmentForce, Integrator, Material, RigidBody, Shape};
 
@@ -114,6 +114,7 @@ struct Sim {
     forces: Vec<EnvironmentForce>,
     settings: SoftSolverSettings,
     warm: Vec<(u64, WarmImpulse)>,
+    scratch: SoftScratch,
 }
 
 impl Sim {
@@ -128,6 +129,7 @@ impl Sim {
             },
             settings: SoftSolverSettings::default(),
             warm: vec![],
+            scratch: SoftScratch::default(),
         }
     }
 
@@ -145,8 +147,8 @@ impl Sim {
         let awake: Vec<u32> = (0..self.bodies.len() as u32)
             .filter(|&i| self.bodies[i as usize].is_awake())
             .collect();
-        let step = soft_solver::step(&mut self.bodies, &awake, &contacts, &ctx);
-        self.warm = keys.into_iter().zip(step.impulses).collect();
+        soft_solver::step(&mut self.bodies, &awake, &contacts, &ctx, &mut self.scratch);
+        self.warm = keys.into_iter().zip(self.scratch.impulses()).collect();
     }
 }
 

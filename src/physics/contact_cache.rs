@@ -23,32 +23,39 @@ impl ContactCache {
             .unwrap_or_default()
     }
 
-    /// The solver's view of this step's contacts, warm-started from the cache.
-    pub fn solver_inputs(&self, manifolds: &[ContactManifold]) -> Vec<ContactInput> {
-        manifolds
+    /// The solver's view of this step's contacts, warm-started from the cache, into `inputs`
+    /// (emptied first; kept by the caller so that its room is reused).
+    pub fn solver_inputs(&self, manifolds: &[ContactManifold], inputs: &mut Vec<ContactInput>) {
+        inputs.clear();
+        let contacts = manifolds
             .iter()
-            .flat_map(|m| m.contacts.iter().map(move |c| (m, c)))
-            .map(|(m, c)| ContactInput {
-                a: m.body_a.index(),
-                b: m.body_b.index(),
-                point: c.position,
-                normal: c.normal,
-                separation: c.separation,
-                warm_impulse: self.lookup(&(m.body_a, m.body_b, c.feature)),
-            })
-            .collect()
+            .flat_map(|m| m.contacts.iter().map(move |c| (m, c)));
+        inputs.extend(contacts.map(|(m, c)| ContactInput {
+            a: m.body_a.index(),
+            b: m.body_b.index(),
+            point: c.position,
+            normal: c.normal,
+            separation: c.separation,
+            warm_impulse: self.lookup(&(m.body_a, m.body_b, c.feature)),
+        }));
     }
 
     /// Remembers the impulses the solver returned, in the order of `solver_inputs`.
-    pub fn store(&mut self, manifolds: &[ContactManifold], impulses: &[WarmImpulse]) {
+    pub fn store(
+        &mut self,
+        manifolds: &[ContactManifold],
+        impulses: impl Iterator<Item = WarmImpulse>,
+    ) {
         self.entries.clear();
         let keys = manifolds.iter().flat_map(|m| {
             m.contacts
                 .iter()
                 .map(move |c| (m.body_a, m.body_b, c.feature))
         });
-        self.entries.extend(keys.zip(impulses.iter().copied()));
-        self.entries.sort_by_key(|entry| entry.0);
+        self.entries.extend(keys.zip(impulses));
+        // Unstable: sorts in place (a stable sort allocates). Equal keys are rare (a feature
+        // pair found twice) and which one is kept is the same on every run.
+        self.entries.sort_unstable_by_key(|entry| entry.0);
         self.entries.dedup_by(|x, y| x.0 == y.0);
     }
 

@@ -10,6 +10,7 @@
 use glam::{DMat3, DVec3};
 
 use crate::physics::body::RigidBody;
+use crate::physics::segment::separated_segments;
 use crate::physics::shape::Shape;
 
 /// Anything GJK can measure: a convex set given by the support function of its core and a
@@ -23,6 +24,12 @@ pub trait SupportMap {
 
     /// A point inside the shape, used to choose the first search direction.
     fn inner_point(&self) -> DVec3;
+
+    /// The core as a segment (both ends equal for a point), world coordinates, when it is
+    /// one: GJK then measures the distance in closed form (`segment`) instead of iterating.
+    fn core_segment(&self) -> Option<[DVec3; 2]> {
+        None
+    }
 
     /// The support of the full shape (core swept by the margin).
     fn support(&self, direction: DVec3) -> DVec3 {
@@ -104,6 +111,17 @@ impl SupportMap for PosedShape<'_> {
         let (min, max) = self.shape.local_bounds();
         self.to_world(0.5 * (min + max))
     }
+
+    fn core_segment(&self) -> Option<[DVec3; 2]> {
+        match *self.shape {
+            Shape::Sphere { .. } => Some([self.origin; 2]),
+            Shape::Capsule { half_height, .. } => {
+                let half = self.rotation * DVec3::new(0.0, half_height, 0.0);
+                Some([self.origin - half, self.origin + half])
+            }
+            _ => None,
+        }
+    }
 }
 
 impl SupportMap for RigidBody {
@@ -117,6 +135,10 @@ impl SupportMap for RigidBody {
 
     fn inner_point(&self) -> DVec3 {
         self.position
+    }
+
+    fn core_segment(&self) -> Option<[DVec3; 2]> {
+        PosedShape::of_body(self).core_segment()
     }
 }
 
@@ -132,6 +154,10 @@ impl SupportMap for DVec3 {
 
     fn inner_point(&self) -> DVec3 {
         *self
+    }
+
+    fn core_segment(&self) -> Option<[DVec3; 2]> {
+        Some([*self; 2])
     }
 }
 
@@ -224,16 +250,6 @@ impl Simplex {
             .iter()
             .any(|p| p.w.distance_squared(w) <= tolerance_sq)
     }
-
-    fn from_weighted(points: &[(SupportPoint, f64)]) -> Self {
-        let mut simplex = Simplex::single(points[0].0);
-        simplex.len = 0;
-        for (i, &(p, l)) in points.iter().enumerate() {
-            simplex.push(p);
-            simplex.weights[i] = l;
-        }
-        simplex
-    }
 }
 
 /// GJK on the cores only (no margins).
@@ -313,6 +329,23 @@ pub fn gjk_intersects(a: &impl SupportMap, b: &impl SupportMap) -> bool {
 
 /// GJK on the cores of the shapes.
 pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistance {
+    if let (Some(core_a), Some(core_b)) = (a.core_segment(), b.core_segment())
+        && let Some((point_a, point_b, distance)) = separated_segments(core_a, core_b)
+    {
+        return CoreDistance {
+            distance,
+            point_a,
+            point_b,
+            normal: (point_b - point_a) / distance,
+            overlap: false,
+            simplex: Simplex::single(SupportPoint {
+                w: point_a - point_b,
+                a: point_a,
+                b: point_b,
+            }),
+            iterations: 0,
+        };
+    }
     let first_direction = (b.inner_point() - a.inner_point()).normalize_or(DVec3::X);
     let mut simplex = Simplex::single(SupportPoint::of_cores(a, b, -first_direction));
     let mut v = simplex.points[0].w;
@@ -343,16 +376,16 @@ pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistan
         }
         // Slivers (near-duplicate points from curved surfaces) can defeat the region tests;
         // then every sub-simplex holding the new point is tried directly.
-        let reduced = if reduced.combine().0.length_squared() < v_sq {
-            reduced
-        } else {
-            best_with_newest(&candidate)
-        };
-        let new_v = reduced.combine().0;
+        let mut new_v = reduced.closest(&candidate.points);
+        let mut reduced = reduced;
+        if new_v.length_squared() >= v_sq {
+            reduced = best_with_newest(&candidate);
+            new_v = reduced.closest(&candidate.points);
+        }
         if new_v.length_squared() >= v_sq {
             break; // no progress: round-off has taken over, keep the previous simplex
         }
-        simplex = reduced;
+        simplex = reduced.to_simplex(&candidate.points);
         v = new_v;
     }
     let (_, point_a, point_b) = simplex.combine();
@@ -377,104 +410,144 @@ fn simplex_scale_sq(simplex: &Simplex) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The sub-simplex whose affine hull holds the point closest to the origin, with its
-/// barycentric weights; `true` when a full tetrahedron encloses the origin.
-fn closest_on_simplex(simplex: &Simplex) -> (Simplex, bool) {
-    let p = simplex.vertices();
-    match p.len() {
-        1 => (Simplex::single(p[0]), false),
-        2 => (closest_on_segment(p[0], p[1]), false),
-        3 => (closest_on_triangle(p[0], p[1], p[2]), false),
-        _ => closest_on_tetrahedron(p[0], p[1], p[2], p[3]),
+/// A sub-simplex named by the indices of its vertices in a simplex's point list, with the
+/// barycentric weights of its point closest to the origin. The reductions below pass these
+/// around instead of whole simplices, so no support point is copied until one is chosen.
+#[derive(Clone, Copy, Debug)]
+struct Sub {
+    vertices: [usize; 4],
+    weights: [f64; 4],
+    len: usize,
+}
+
+impl Sub {
+    fn single(i: usize) -> Sub {
+        Sub {
+            vertices: [i; 4],
+            weights: [1.0, 0.0, 0.0, 0.0],
+            len: 1,
+        }
+    }
+
+    fn weighted<const N: usize>(vertices: [usize; N], weights: [f64; N]) -> Sub {
+        let mut sub = Sub::single(vertices[0]);
+        sub.vertices[..N].copy_from_slice(&vertices);
+        sub.weights[..N].copy_from_slice(&weights);
+        sub.len = N;
+        sub
+    }
+
+    /// Σ λᵢ wᵢ: the point closest to the origin, summed in vertex order as `Simplex::combine`.
+    fn closest(&self, points: &[SupportPoint; 4]) -> DVec3 {
+        let mut sum = DVec3::ZERO;
+        for k in 0..self.len {
+            sum += points[self.vertices[k]].w * self.weights[k];
+        }
+        sum
+    }
+
+    fn to_simplex(self, points: &[SupportPoint; 4]) -> Simplex {
+        Simplex {
+            points: self.vertices.map(|i| points[i]),
+            weights: self.weights,
+            len: self.len,
+        }
     }
 }
 
-fn closest_on_segment(a: SupportPoint, b: SupportPoint) -> Simplex {
-    let edge = b.w - a.w;
+/// The sub-simplex whose affine hull holds the point closest to the origin, with its
+/// barycentric weights; `true` when a full tetrahedron encloses the origin.
+fn closest_on_simplex(simplex: &Simplex) -> (Sub, bool) {
+    let p = &simplex.points;
+    match simplex.len {
+        1 => (Sub::single(0), false),
+        2 => (closest_on_segment(p, 0, 1), false),
+        3 => (closest_on_triangle(p, [0, 1, 2]), false),
+        _ => closest_on_tetrahedron(p),
+    }
+}
+
+fn closest_on_segment(p: &[SupportPoint; 4], i: usize, j: usize) -> Sub {
+    let (a, b) = (p[i].w, p[j].w);
+    let edge = b - a;
     let length_sq = edge.length_squared();
     if length_sq <= f64::MIN_POSITIVE {
-        return Simplex::single(a);
+        return Sub::single(i);
     }
-    let t = -a.w.dot(edge) / length_sq;
+    let t = -a.dot(edge) / length_sq;
     if t <= 0.0 {
-        Simplex::single(a)
+        Sub::single(i)
     } else if t >= 1.0 {
-        Simplex::single(b)
+        Sub::single(j)
     } else {
-        Simplex::from_weighted(&[(a, 1.0 - t), (b, t)])
+        Sub::weighted([i, j], [1.0 - t, t])
     }
 }
 
 /// Voronoi regions of the triangle seen from the origin: a vertex, an edge or the inside.
-fn closest_on_triangle(a: SupportPoint, b: SupportPoint, c: SupportPoint) -> Simplex {
-    let ab = b.w - a.w;
-    let ac = c.w - a.w;
-    let d1 = ab.dot(-a.w);
-    let d2 = ac.dot(-a.w);
+fn closest_on_triangle(p: &[SupportPoint; 4], [i, j, k]: [usize; 3]) -> Sub {
+    let (a, b, c) = (p[i].w, p[j].w, p[k].w);
+    let ab = b - a;
+    let ac = c - a;
+    let d1 = ab.dot(-a);
+    let d2 = ac.dot(-a);
     if d1 <= 0.0 && d2 <= 0.0 {
-        return Simplex::single(a);
+        return Sub::single(i);
     }
-    let d3 = ab.dot(-b.w);
-    let d4 = ac.dot(-b.w);
+    let d3 = ab.dot(-b);
+    let d4 = ac.dot(-b);
     if d3 >= 0.0 && d4 <= d3 {
-        return Simplex::single(b);
+        return Sub::single(j);
     }
-    let d5 = ab.dot(-c.w);
-    let d6 = ac.dot(-c.w);
+    let d5 = ab.dot(-c);
+    let d6 = ac.dot(-c);
     if d6 >= 0.0 && d5 <= d6 {
-        return Simplex::single(c);
+        return Sub::single(k);
     }
     // Barycentric areas (scaled) opposite each vertex.
     let area_c = d1 * d4 - d3 * d2;
     let area_b = d5 * d2 - d1 * d6;
     let area_a = d3 * d6 - d5 * d4;
     if area_c <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return closest_on_segment(a, b);
+        return closest_on_segment(p, i, j);
     }
     if area_b <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return closest_on_segment(a, c);
+        return closest_on_segment(p, i, k);
     }
     if area_a <= 0.0 && d4 >= d3 && d5 >= d6 {
-        return closest_on_segment(b, c);
+        return closest_on_segment(p, j, k);
     }
     let total = area_a + area_b + area_c;
     let scale = ab.length_squared() * ac.length_squared();
     if total <= 1e-14 * scale || !total.is_finite() {
-        return best_of([
-            closest_on_segment(a, b),
-            closest_on_segment(a, c),
-            closest_on_segment(b, c),
-        ]);
+        return best_of(
+            p,
+            [
+                closest_on_segment(p, i, j),
+                closest_on_segment(p, i, k),
+                closest_on_segment(p, j, k),
+            ],
+        );
     }
-    Simplex::from_weighted(&[
-        (a, area_a / total),
-        (b, area_b / total),
-        (c, area_c / total),
-    ])
+    Sub::weighted([i, j, k], [area_a / total, area_b / total, area_c / total])
 }
 
 /// Barycentric coordinates of the origin from signed volumes: the origin is enclosed when
 /// all four are non-negative; otherwise it lies beyond each face whose opposite vertex has
 /// a negative coordinate, and the closest of those faces wins. A flat (sliver) tetrahedron
 /// encloses nothing: its faces are all tried.
-fn closest_on_tetrahedron(
-    a: SupportPoint,
-    b: SupportPoint,
-    c: SupportPoint,
-    d: SupportPoint,
-) -> (Simplex, bool) {
-    let [pa, pb, pc, pd] = [a.w, b.w, c.w, d.w];
+fn closest_on_tetrahedron(p: &[SupportPoint; 4]) -> (Sub, bool) {
+    let [pa, pb, pc, pd] = [p[0].w, p[1].w, p[2].w, p[3].w];
     let volume = signed_volume(pa, pb, pc, pd);
+    // The longest edge; √ of the largest square is the largest √, to the last bit.
     let size = [pb - pa, pc - pa, pd - pa, pc - pb, pd - pb, pd - pc]
         .iter()
-        .map(|e| e.length())
-        .fold(0.0, f64::max);
-    let faces = [(b, c, d), (a, c, d), (a, b, d), (a, b, c)];
+        .map(|e| e.length_squared())
+        .fold(0.0, f64::max)
+        .sqrt();
+    const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
     if volume.abs() <= 1e-12 * size * size * size {
-        return (
-            best_of(faces.map(|(p, q, r)| closest_on_triangle(p, q, r))),
-            false,
-        );
+        return (best_of(p, FACES.map(|f| closest_on_triangle(p, f))), false);
     }
     let o = DVec3::ZERO;
     let coordinates = [
@@ -485,16 +558,14 @@ fn closest_on_tetrahedron(
     ]
     .map(|v| v / volume);
     if coordinates.iter().all(|&l| l >= 0.0) {
-        let mut enclosed = Simplex::from_weighted(&[(a, 0.0), (b, 0.0), (c, 0.0), (d, 0.0)]);
-        enclosed.weights = coordinates;
-        return (enclosed, true);
+        return (Sub::weighted([0, 1, 2, 3], coordinates), true);
     }
-    let candidates = faces
+    let candidates = FACES
         .iter()
         .zip(coordinates)
         .filter(|(_, l)| *l < 0.0)
-        .map(|(&(p, q, r), _)| closest_on_triangle(p, q, r));
-    (best_of(candidates), false)
+        .map(|(&face, _)| closest_on_triangle(p, face));
+    (best_of(p, candidates), false)
 }
 
 /// (q − p) × (r − p) · (s − p): six times the signed volume of the tetrahedron pqrs.
@@ -503,26 +574,34 @@ fn signed_volume(p: DVec3, q: DVec3, r: DVec3, s: DVec3) -> f64 {
 }
 
 /// The best sub-simplex among those that contain the newest (last) point.
-fn best_with_newest(simplex: &Simplex) -> Simplex {
-    let points = simplex.vertices();
-    let (newest, older) = points.split_last().expect("a simplex is never empty");
-    let mut candidates = vec![Simplex::single(*newest)];
-    for (i, &p) in older.iter().enumerate() {
-        candidates.push(closest_on_segment(p, *newest));
-        for &q in &older[i + 1..] {
-            candidates.push(closest_on_triangle(p, q, *newest));
+fn best_with_newest(simplex: &Simplex) -> Sub {
+    let p = &simplex.points;
+    let newest = simplex.len - 1;
+    let mut best = Sub::single(newest);
+    let mut best_sq = best.closest(p).length_squared();
+    let mut consider = |candidate: Sub| {
+        let distance_sq = candidate.closest(p).length_squared();
+        if distance_sq < best_sq {
+            (best, best_sq) = (candidate, distance_sq);
+        }
+    };
+    for i in 0..newest {
+        consider(closest_on_segment(p, i, newest));
+        for j in i + 1..newest {
+            consider(closest_on_triangle(p, [i, j, newest]));
         }
     }
-    best_of(candidates)
+    best
 }
 
-fn best_of(candidates: impl IntoIterator<Item = Simplex>) -> Simplex {
-    candidates
-        .into_iter()
-        .min_by(|x, y| {
-            let dx = x.combine().0.length_squared();
-            let dy = y.combine().0.length_squared();
-            dx.total_cmp(&dy)
-        })
-        .expect("at least one candidate")
+/// The candidate nearest the origin; the first of equals.
+fn best_of(p: &[SupportPoint; 4], candidates: impl IntoIterator<Item = Sub>) -> Sub {
+    let mut best: Option<(Sub, f64)> = None;
+    for candidate in candidates {
+        let distance_sq = candidate.closest(p).length_squared();
+        if best.is_none_or(|(_, best_sq)| distance_sq < best_sq) {
+            best = Some((candidate, distance_sq));
+        }
+    }
+    best.expect("at least one candidate").0
 }

@@ -24,6 +24,7 @@ use crate::physics::contact::{
 };
 use crate::physics::epa::signed_distance;
 use crate::physics::gjk::{PosedShape, SupportMap};
+use crate::physics::segment::closest_points_of_segments;
 use crate::physics::shape::Shape;
 
 /// The contacts of two bodies, normal from A to B, or None when they are farther apart
@@ -426,29 +427,6 @@ fn edge_contact(
     }
 }
 
-/// Closest points of segments [p0, p1] and [q0, q1] (both of positive length).
-pub fn closest_points_of_segments(p0: DVec3, p1: DVec3, q0: DVec3, q1: DVec3) -> (DVec3, DVec3) {
-    let (d1, d2, r) = (p1 - p0, q1 - q0, p0 - q0);
-    let (a, e, f) = (d1.dot(d1), d2.dot(d2), d2.dot(r));
-    let (b, c) = (d1.dot(d2), d1.dot(r));
-    let denom = a * e - b * b;
-    // Parallel segments: any s works; take the start of the first one.
-    let mut s = if denom > 1e-14 * a * e {
-        ((b * f - c * e) / denom).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let mut t = (b * s + f) / e;
-    if t < 0.0 {
-        t = 0.0;
-        s = (-c / a).clamp(0.0, 1.0);
-    } else if t > 1.0 {
-        t = 1.0;
-        s = ((b - c) / a).clamp(0.0, 1.0);
-    }
-    (p0 + d1 * s, q0 + d2 * t)
-}
-
 /// A point of the incident polygon with where it came from.
 #[derive(Clone, Copy, Debug)]
 struct ClipPoint {
@@ -663,6 +641,9 @@ impl SupportMap for SurfacePoint {
     }
     fn inner_point(&self) -> DVec3 {
         self.center
+    }
+    fn core_segment(&self) -> Option<[DVec3; 2]> {
+        Some([self.center; 2])
     }
 }
 

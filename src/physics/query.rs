@@ -203,6 +203,11 @@ impl<S: SupportMap> SupportMap for Translated<'_, S> {
     fn inner_point(&self) -> DVec3 {
         self.inner.inner_point() + self.offset
     }
+    fn core_segment(&self) -> Option<[DVec3; 2]> {
+        self.inner
+            .core_segment()
+            .map(|ends| ends.map(|p| p + self.offset))
+    }
 }
 
 /// The nearest body hit by a ray; `direction` need not be unit. Boxes are tested first so

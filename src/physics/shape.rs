@@ -148,8 +148,26 @@ impl Shape {
         }
     }
 
-    /// Local axis-aligned bounds, (min, max).
+    /// Local axis-aligned bounds, (min, max). Closed form for the primitives (every contact
+    /// query asks for them), the supports along the axes for hulls and compounds.
     pub fn local_bounds(&self) -> (DVec3, DVec3) {
+        let half = match *self {
+            Shape::Sphere { radius } => DVec3::splat(radius),
+            Shape::Cuboid { half_extents } => half_extents,
+            Shape::Capsule {
+                half_height,
+                radius,
+            } => DVec3::new(radius, half_height + radius, radius),
+            Shape::Cylinder {
+                half_height,
+                radius,
+            } => DVec3::new(radius, half_height, radius),
+            Shape::ConvexHull(_) | Shape::Compound(_) => return self.bounds_from_supports(),
+        };
+        (-half, half)
+    }
+
+    fn bounds_from_supports(&self) -> (DVec3, DVec3) {
         let max = DVec3::new(
             self.support(DVec3::X).x,
             self.support(DVec3::Y).y,
@@ -208,4 +226,28 @@ fn check_extent(field: &'static str, value: f64) -> Result<(), ShapeError> {
 /// Component-wise sign with zero mapped to +1, so a support point is always a vertex.
 fn sign_or_positive(v: DVec3) -> DVec3 {
     DVec3::new(1f64.copysign(v.x), 1f64.copysign(v.y), 1f64.copysign(v.z))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed-form bounds of the primitives are what their support functions give.
+    #[test]
+    fn closed_form_bounds_match_the_supports() {
+        let shapes = [
+            Shape::sphere(0.3),
+            Shape::cuboid(DVec3::new(0.1, 0.25, 0.7)),
+            Shape::capsule(0.4, 0.15),
+            Shape::cylinder(0.2, 0.35),
+        ];
+        for shape in shapes {
+            assert_eq!(
+                shape.local_bounds(),
+                shape.bounds_from_supports(),
+                "{}",
+                shape.kind_name()
+            );
+        }
+    }
 }

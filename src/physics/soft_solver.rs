@@ -25,6 +25,7 @@ use crate::physics::body::RigidBody;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::impulse::{Arms, clamp_to_friction_disc, tangent_basis};
 use crate::physics::integrate::{self, Integrator};
+use crate::physics::solver_bodies::{FIXED_SLOT, SolverBodies, SolverBody};
 use crate::physics::stage_times::Stopwatch;
 
 /// A contact point handed to the solver. The normal points from body `a` to body `b`.
@@ -77,15 +78,74 @@ impl Default for SoftSolverSettings {
     }
 }
 
-/// One prepared contact point.
+/// One side of a prepared contact point: what an impulse does to that body.
+#[derive(Clone, Copy, Debug)]
+struct Side {
+    slot: u32,
+    /// r × d for the normal and the two tangents (r the lever arm): the angular impulse of a
+    /// unit impulse along d.
+    arm: [DVec3; 3],
+    /// I⁻¹ (r × d) with the world inertia at step start: the point's speed along d owes
+    /// A · I⁻¹(r × d) to the angular momentum A (as ω · (r × d) = d · (ω × r)).
+    spin: [DVec3; 3],
+    /// The lever arm in body axes, or for a body that does not move in this step, the
+    /// contact point in world axes: the separation follows the bodies as they turn.
+    anchor: DVec3,
+}
+
+impl Side {
+    fn new(body: &RigidBody, slot: u32, lever: DVec3, directions: &[DVec3; 3]) -> Side {
+        let moves = slot != FIXED_SLOT;
+        let arm = directions.map(|d| lever.cross(d));
+        Side {
+            slot,
+            arm,
+            spin: arm.map(|x| {
+                if moves {
+                    body.inv_inertia_world * x
+                } else {
+                    DVec3::ZERO
+                }
+            }),
+            anchor: if moves {
+                body.orientation.transpose() * lever
+            } else {
+                body.position + lever
+            },
+        }
+    }
+
+    /// Speed of the body's material point at the contact along direction k (`d`).
+    fn speed(&self, bodies: &[SolverBody], k: usize, d: DVec3) -> f64 {
+        let body = &bodies[self.slot as usize];
+        d.dot(body.linear_momentum) * body.inv_mass + body.angular_momentum.dot(self.spin[k])
+    }
+
+    fn anchor_in_world(&self, bodies: &[SolverBody]) -> DVec3 {
+        if self.slot == FIXED_SLOT {
+            return self.anchor;
+        }
+        let body = &bodies[self.slot as usize];
+        body.position + body.orientation * self.anchor
+    }
+
+    fn push(&self, bodies: &mut [SolverBody], linear: DVec3, angular: DVec3) {
+        if self.slot != FIXED_SLOT {
+            let body = &mut bodies[self.slot as usize];
+            body.linear_momentum += linear;
+            body.angular_momentum += angular;
+        }
+    }
+}
+
+/// One prepared contact point. Its directions are the normal (from a to b), then the two
+/// tangents; the arms stay fixed for the step: impulses act where the bodies touch, not
+/// where that material point has rotated to (a rolling ball keeps pushing at its bottom).
 #[derive(Clone, Copy, Debug)]
 struct PointConstraint {
-    arms: Arms,
-    normal: DVec3,
-    tangents: [DVec3; 2],
-    /// The same lever arms in body axes: the separation follows the bodies as they turn.
-    anchor_a: DVec3,
-    anchor_b: DVec3,
+    a: Side,
+    b: Side,
+    directions: [DVec3; 3],
     /// Separation = normal · (world anchor b − world anchor a) + separation_offset.
     separation_offset: f64,
     normal_mass: f64,
@@ -100,6 +160,41 @@ struct PointConstraint {
     approach_acceleration: f64,
     friction: f64,
     restitution: f64,
+}
+
+impl PointConstraint {
+    fn normal(&self) -> DVec3 {
+        self.directions[0]
+    }
+
+    /// Relative speed of b's material point over a's along direction k.
+    fn speed(&self, bodies: &[SolverBody], k: usize) -> f64 {
+        let d = self.directions[k];
+        self.b.speed(bodies, k, d) - self.a.speed(bodies, k, d)
+    }
+
+    /// Impulses λ along the three directions: +Σ λ d to b, −Σ λ d to a, at their arms.
+    fn apply(&self, bodies: &mut [SolverBody], lambda: [f64; 3]) {
+        let along = |v: &[DVec3; 3]| v[0] * lambda[0] + v[1] * lambda[1] + v[2] * lambda[2];
+        let linear = along(&self.directions);
+        self.a.push(bodies, -linear, -along(&self.a.arm));
+        self.b.push(bodies, linear, along(&self.b.arm));
+    }
+
+    /// A normal impulse only.
+    fn apply_normal(&self, bodies: &mut [SolverBody], lambda: f64) {
+        let linear = self.directions[0] * lambda;
+        self.a.push(bodies, -linear, self.a.arm[0] * -lambda);
+        self.b.push(bodies, linear, self.b.arm[0] * lambda);
+    }
+
+    /// Friction impulses along the two tangents.
+    fn apply_tangent(&self, bodies: &mut [SolverBody], [l1, l2]: [f64; 2]) {
+        let along = |v: &[DVec3; 3]| v[1] * l1 + v[2] * l2;
+        let linear = along(&self.directions);
+        self.a.push(bodies, -linear, -along(&self.a.arm));
+        self.b.push(bodies, linear, along(&self.b.arm));
+    }
 }
 
 /// Spring coefficients of a soft constraint for one substep.
@@ -134,10 +229,25 @@ pub struct StepContext<'a> {
 
 /// What a soft step hands back.
 pub struct SoftStep {
-    /// The impulses each contact ended with (same order as the contacts), for warm starting.
-    pub impulses: Vec<WarmImpulse>,
     /// Seconds spent on forces and integration, over all substeps (for the stage profile).
     pub integrate_seconds: f64,
+}
+
+/// Buffers a soft step keeps for the next one, so that stepping allocates nothing once
+/// they have grown to the scene.
+#[derive(Clone, Debug, Default)]
+pub struct SoftScratch {
+    constraints: Vec<PointConstraint>,
+    user_forces: Vec<(DVec3, DVec3)>,
+    bodies: SolverBodies,
+}
+
+impl SoftScratch {
+    /// The impulses each contact ended the last step with (in the order of its contacts),
+    /// for warm starting.
+    pub fn impulses(&self) -> impl Iterator<Item = WarmImpulse> + '_ {
+        self.constraints.iter().map(|c| c.impulse)
+    }
 }
 
 /// Advances the `awake` bodies (ascending indices into `bodies`) by one step of `ctx.dt` with
@@ -147,24 +257,35 @@ pub fn step(
     awake: &[u32],
     contacts: &[ContactInput],
     ctx: &StepContext,
+    scratch: &mut SoftScratch,
 ) -> SoftStep {
-    let mut constraints: Vec<PointConstraint> = contacts
-        .iter()
-        .map(|c| prepare(bodies, c, ctx.forces))
-        .collect();
+    let SoftScratch {
+        constraints,
+        user_forces,
+        bodies: slots,
+    } = scratch;
+    slots.assign(bodies, awake);
+    constraints.clear();
+    constraints.extend(
+        contacts
+            .iter()
+            .map(|c| prepare(bodies, slots, c, ctx.forces)),
+    );
     let substeps = ctx.settings.substeps.max(1);
     let h = ctx.dt / substeps as f64;
     let hertz = ctx.settings.contact_hertz.min(0.25 / h);
     let softness = Softness::new(hertz, ctx.settings.damping_ratio, h);
     // Forces the user applied before the step act over all of it, like the environment's.
-    let user_forces: Vec<(DVec3, DVec3)> = awake
-        .iter()
-        .map(|&i| (bodies[i as usize].force, bodies[i as usize].torque))
-        .collect();
+    user_forces.clear();
+    user_forces.extend(
+        awake
+            .iter()
+            .map(|&i| (bodies[i as usize].force, bodies[i as usize].torque)),
+    );
     let mut integrate_seconds = 0.0;
     for _ in 0..substeps {
         let mut clock = Stopwatch::start();
-        for (&index, &(force, torque)) in awake.iter().zip(&user_forces) {
+        for (&index, &(force, torque)) in awake.iter().zip(user_forces.iter()) {
             let body = &mut bodies[index as usize];
             body.force = force;
             body.torque = torque;
@@ -172,33 +293,36 @@ pub fn step(
             integrate::integrate_momenta(body, h);
         }
         integrate_seconds += clock.lap();
-        warm_start(bodies, &constraints);
+        slots.gather(bodies);
+        warm_start(&mut slots.slots, constraints);
         solve(
-            bodies,
-            &mut constraints,
+            &mut slots.slots,
+            constraints,
             h,
             Some((softness, ctx.settings.max_push_out)),
         );
+        slots.scatter(bodies);
         clock.lap();
         for &index in awake {
             integrate::integrate_pose(&mut bodies[index as usize], h, ctx.integrator);
         }
         integrate_seconds += clock.lap();
-        solve(bodies, &mut constraints, h, None);
+        slots.gather(bodies);
+        solve(&mut slots.slots, constraints, h, None);
+        slots.scatter(bodies);
     }
     apply_restitution(
-        bodies,
-        &mut constraints,
+        &mut slots.slots,
+        constraints,
         ctx.settings.restitution_threshold,
         h,
     );
+    slots.scatter(bodies);
+    slots.release();
     for &index in awake {
         bodies[index as usize].clear_accumulators();
     }
-    SoftStep {
-        impulses: constraints.iter().map(|c| c.impulse).collect(),
-        integrate_seconds,
-    }
+    SoftStep { integrate_seconds }
 }
 
 fn environment_acceleration(body: &RigidBody, forces: &[EnvironmentForce]) -> DVec3 {
@@ -220,27 +344,25 @@ fn impact_speed(speed: f64, acceleration: f64, gap: f64) -> f64 {
 
 fn prepare(
     bodies: &[RigidBody],
+    slots: &SolverBodies,
     contact: &ContactInput,
     forces: &[EnvironmentForce],
 ) -> PointConstraint {
     let (a, b) = (&bodies[contact.a], &bodies[contact.b]);
     let normal = contact.normal;
-    let tangents = tangent_basis(normal);
-    // The arms stay fixed for the step: impulses act where the bodies touch, not where that
-    // material point has rotated to (a rolling ball keeps pushing at its bottom).
+    let [t1, t2] = tangent_basis(normal);
+    let directions = [normal, t1, t2];
     let arms = Arms::at(bodies, contact.a, contact.b, contact.point);
     let (r_a, r_b) = (arms.r_a, arms.r_b);
     PointConstraint {
-        arms,
-        normal,
-        tangents,
-        anchor_a: a.orientation.transpose() * r_a,
-        anchor_b: b.orientation.transpose() * r_b,
+        a: Side::new(a, slots.slot_of(contact.a), r_a, &directions),
+        b: Side::new(b, slots.slot_of(contact.b), r_b, &directions),
+        directions,
         separation_offset: contact.separation - normal.dot(r_b - r_a + b.position - a.position),
         normal_mass: arms.effective_mass(bodies, normal),
         tangent_mass: [
-            arms.effective_mass(bodies, tangents[0]),
-            arms.effective_mass(bodies, tangents[1]),
+            arms.effective_mass(bodies, t1),
+            arms.effective_mass(bodies, t2),
         ],
         impulse: contact.warm_impulse,
         max_normal_impulse: 0.0,
@@ -253,26 +375,22 @@ fn prepare(
 }
 
 /// Current separation: the anchors carried along by the bodies' motion in this step.
-fn current_separation(bodies: &[RigidBody], c: &PointConstraint) -> f64 {
-    let (a, b) = (&bodies[c.arms.a], &bodies[c.arms.b]);
-    let anchor_a = a.position + a.orientation * c.anchor_a;
-    let anchor_b = b.position + b.orientation * c.anchor_b;
-    c.normal.dot(anchor_b - anchor_a) + c.separation_offset
+fn current_separation(bodies: &[SolverBody], c: &PointConstraint) -> f64 {
+    let (anchor_a, anchor_b) = (c.a.anchor_in_world(bodies), c.b.anchor_in_world(bodies));
+    c.normal().dot(anchor_b - anchor_a) + c.separation_offset
 }
 
-fn warm_start(bodies: &mut [RigidBody], constraints: &[PointConstraint]) {
+fn warm_start(bodies: &mut [SolverBody], constraints: &[PointConstraint]) {
     for c in constraints {
-        let impulse = c.normal * c.impulse.normal
-            + c.tangents[0] * c.impulse.tangent[0]
-            + c.tangents[1] * c.impulse.tangent[1];
-        c.arms.apply(bodies, impulse);
+        let [t1, t2] = c.impulse.tangent;
+        c.apply(bodies, [c.impulse.normal, t1, t2]);
     }
 }
 
 /// One pass over all constraints: normal (soft or rigid) then friction.
 /// `bias` is the softness and push-out cap when solving with position bias, None to relax.
 fn solve(
-    bodies: &mut [RigidBody],
+    bodies: &mut [SolverBody],
     constraints: &mut [PointConstraint],
     h: f64,
     bias: Option<(Softness, f64)>,
@@ -284,7 +402,7 @@ fn solve(
 }
 
 fn solve_normal(
-    bodies: &mut [RigidBody],
+    bodies: &mut [SolverBody],
     c: &mut PointConstraint,
     h: f64,
     bias: Option<(Softness, f64)>,
@@ -302,7 +420,7 @@ fn solve_normal(
     } else {
         (0.0, 1.0, 0.0)
     };
-    let normal_speed = c.normal.dot(c.arms.relative_velocity(bodies));
+    let normal_speed = c.speed(bodies, 0);
     let delta = -c.normal_mass * mass_scale * (normal_speed + velocity_bias)
         - impulse_scale * c.impulse.normal;
     let accumulated = (c.impulse.normal + delta).max(0.0);
@@ -319,29 +437,30 @@ fn solve_normal(
     }
     c.impulse.normal = accumulated;
     c.max_normal_impulse = c.max_normal_impulse.max(applied);
-    c.arms.apply(bodies, c.normal * applied);
+    c.apply_normal(bodies, applied);
 }
 
 /// Coulomb friction: the tangential impulse stays inside the disc of radius μ·λn.
-fn solve_friction(bodies: &mut [RigidBody], c: &mut PointConstraint) {
+fn solve_friction(bodies: &mut [SolverBody], c: &mut PointConstraint) {
     let limit = c.friction * c.impulse.normal;
-    let slip = c.arms.relative_velocity(bodies);
     let unclamped = [
-        c.impulse.tangent[0] - c.tangent_mass[0] * c.tangents[0].dot(slip),
-        c.impulse.tangent[1] - c.tangent_mass[1] * c.tangents[1].dot(slip),
+        c.impulse.tangent[0] - c.tangent_mass[0] * c.speed(bodies, 1),
+        c.impulse.tangent[1] - c.tangent_mass[1] * c.speed(bodies, 2),
     ];
     let accumulated = clamp_to_friction_disc(unclamped, limit);
-    let applied = c.tangents[0] * (accumulated[0] - c.impulse.tangent[0])
-        + c.tangents[1] * (accumulated[1] - c.impulse.tangent[1]);
+    let applied = [
+        accumulated[0] - c.impulse.tangent[0],
+        accumulated[1] - c.impulse.tangent[1],
+    ];
     c.impulse.tangent = accumulated;
-    c.arms.apply(bodies, applied);
+    c.apply_tangent(bodies, applied);
 }
 
 /// Newton's restitution on contacts that were approaching faster than the threshold: the
 /// outgoing normal speed becomes ε times the approach speed, as `rebound_speed` reads it
 /// for the substeps of length `h`.
 fn apply_restitution(
-    bodies: &mut [RigidBody],
+    bodies: &mut [SolverBody],
     constraints: &mut [PointConstraint],
     threshold: f64,
     h: f64,
@@ -351,15 +470,14 @@ fn apply_restitution(
             continue;
         }
         let gap = current_separation(bodies, c).max(0.0);
-        let normal_speed = c.normal.dot(c.arms.relative_velocity(bodies));
+        let normal_speed = c.speed(bodies, 0);
         let delta = -c.normal_mass * (normal_speed - rebound_speed(c, gap, h));
         let accumulated = (c.impulse.normal + delta).max(0.0);
         let applied = accumulated - c.impulse.normal;
         c.impulse.normal = accumulated;
-        c.arms.apply(bodies, c.normal * applied);
+        c.apply_normal(bodies, applied);
     }
 }
-
 /// The normal speed a bounce leaves with, `gap` apart, under the relative acceleration a.
 ///
 /// A substep (kick v += a h, then drift x += v h) conserves ½ (v + ½ a h)² − a·x exactly

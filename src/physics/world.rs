@@ -33,7 +33,9 @@ use crate::physics::integrate::{self, Integrator};
 use crate::physics::islands::{self, SleepSettings};
 use crate::physics::narrow_phase;
 use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
-use crate::physics::soft_solver::{self, SoftSolverSettings, StepContext};
+use crate::physics::soft_solver::{
+    self, ContactInput, SoftScratch, SoftSolverSettings, StepContext,
+};
 use crate::physics::stage_times::{StageTimes, Stopwatch};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -72,6 +74,10 @@ pub struct World {
     woken_for_no_sleep: bool,
     manifolds: Vec<ContactManifold>,
     contact_cache: ContactCache,
+    /// The soft solver's contacts and buffers, kept so that a step does not allocate them
+    /// again.
+    solver_inputs: Vec<ContactInput>,
+    soft_scratch: SoftScratch,
     /// The force list as the last step saw it: an edit wakes every body.
     forces_seen: Vec<EnvironmentForce>,
     awake: usize,
@@ -153,6 +159,8 @@ impl World {
             woken_for_no_sleep: false,
             manifolds: Vec::new(),
             contact_cache: ContactCache::default(),
+            solver_inputs: Vec::new(),
+            soft_scratch: SoftScratch::default(),
             forces_seen: Vec::new(),
             awake: 0,
             pairs: 0,
@@ -465,7 +473,9 @@ impl World {
     /// Forces, integration and contacts together, in substeps (see `soft_solver`).
     /// The soft pipeline's step; returns the seconds it spent integrating.
     fn solve(&mut self, dt: f64) -> f64 {
-        let inputs = self.contact_cache.solver_inputs(&self.manifolds);
+        let mut inputs = std::mem::take(&mut self.solver_inputs);
+        self.contact_cache
+            .solver_inputs(&self.manifolds, &mut inputs);
         let ctx = StepContext {
             forces: &self.forces,
             integrator: self.settings.integrator,
@@ -473,8 +483,16 @@ impl World {
             dt,
         };
         let awake = self.awake_set.awake(&self.bodies);
-        let step = soft_solver::step(&mut self.bodies, awake, &inputs, &ctx);
-        self.contact_cache.store(&self.manifolds, &step.impulses);
+        let step = soft_solver::step(
+            &mut self.bodies,
+            awake,
+            &inputs,
+            &ctx,
+            &mut self.soft_scratch,
+        );
+        self.contact_cache
+            .store(&self.manifolds, self.soft_scratch.impulses());
+        self.solver_inputs = inputs;
         step.integrate_seconds
     }
 

@@ -1,0 +1,98 @@
+//! The soft solver's view of the bodies: the momenta and poses of the awake bodies in one
+//! dense array, gathered from the bodies before a pass over the contacts and written back
+//! after it. Contacts then address two small neighbouring records by slot instead of two
+//! large bodies by index, and need no "does it move" test on every impulse.
+//!
+//! Slot 0 stands for every body that does not move in this step (static, asleep): zero
+//! momenta and inverse mass, never written.
+
+use glam::{DMat3, DVec3};
+
+use crate::physics::body::RigidBody;
+
+/// The part of a body that a pass over the contacts reads and changes.
+#[derive(Clone, Copy, Debug)]
+pub struct SolverBody {
+    pub linear_momentum: DVec3,
+    pub angular_momentum: DVec3,
+    pub position: DVec3,
+    pub orientation: DMat3,
+    pub inv_mass: f64,
+}
+
+/// The slot that every body which does not move shares.
+pub const FIXED_SLOT: u32 = 0;
+
+const FIXED: SolverBody = SolverBody {
+    linear_momentum: DVec3::ZERO,
+    angular_momentum: DVec3::ZERO,
+    position: DVec3::ZERO,
+    orientation: DMat3::IDENTITY,
+    inv_mass: 0.0,
+};
+
+/// Slots of the awake bodies, kept between steps so that no step allocates.
+#[derive(Clone, Debug, Default)]
+pub struct SolverBodies {
+    /// Slot k ≥ 1 holds awake body `awake[k − 1]`.
+    pub slots: Vec<SolverBody>,
+    awake: Vec<u32>,
+    /// The slot of each body index, `FIXED_SLOT` for bodies without one. Only the entries of
+    /// the awake bodies are ever set, and they are cleared again by `release`, so idle
+    /// bodies cost nothing here.
+    slot_of: Vec<u32>,
+}
+
+impl SolverBodies {
+    /// Gives each of the `awake` bodies (indices into `bodies`) a slot and gathers it.
+    pub fn assign(&mut self, bodies: &[RigidBody], awake: &[u32]) {
+        if self.slot_of.len() < bodies.len() {
+            self.slot_of.resize(bodies.len(), FIXED_SLOT);
+        }
+        self.awake.clear();
+        self.awake.extend_from_slice(awake);
+        self.slots.clear();
+        self.slots.push(FIXED);
+        for (k, &index) in awake.iter().enumerate() {
+            self.slot_of[index as usize] = k as u32 + 1;
+            self.slots.push(gathered(&bodies[index as usize]));
+        }
+    }
+
+    /// Forgets the slots of this step.
+    pub fn release(&mut self) {
+        for &index in &self.awake {
+            self.slot_of[index as usize] = FIXED_SLOT;
+        }
+    }
+
+    pub fn slot_of(&self, index: usize) -> u32 {
+        self.slot_of[index]
+    }
+
+    /// Reads the awake bodies again (after they were integrated).
+    pub fn gather(&mut self, bodies: &[RigidBody]) {
+        for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
+            *slot = gathered(&bodies[index as usize]);
+        }
+    }
+
+    /// Writes the momenta the contacts changed back to the bodies.
+    pub fn scatter(&self, bodies: &mut [RigidBody]) {
+        for (slot, &index) in self.slots[1..].iter().zip(&self.awake) {
+            let body = &mut bodies[index as usize];
+            body.linear_momentum = slot.linear_momentum;
+            body.angular_momentum = slot.angular_momentum;
+        }
+    }
+}
+
+fn gathered(body: &RigidBody) -> SolverBody {
+    SolverBody {
+        linear_momentum: body.linear_momentum,
+        angular_momentum: body.angular_momentum,
+        position: body.position,
+        orientation: body.orientation,
+        inv_mass: body.inv_mass,
+    }
+}
