@@ -234,3 +234,50 @@ fn the_number_of_threads_does_not_change_a_bit() {
         }
     }
 }
+
+/// The state of every body after `steps` of a rain of `count` bodies on `threads` threads,
+/// and how many contact points the last step solved.
+fn rain_state(count: usize, steps: usize, threads: usize) -> (Vec<[f64; 12]>, usize) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let mut world = rigid::bench::rain::rain_world(count, Default::default());
+        for _ in 0..steps {
+            world.step(1.0 / 60.0);
+        }
+        let points = world.contacts().iter().map(|m| m.contacts.len()).sum();
+        let state = world
+            .bodies()
+            .iter()
+            .map(|b| {
+                let (p, l, a, r) = (
+                    b.position,
+                    b.linear_momentum,
+                    b.angular_momentum,
+                    b.orientation,
+                );
+                [
+                    p.x, p.y, p.z, l.x, l.y, l.z, a.x, a.y, a.z, r.x_axis.x, r.y_axis.y, r.z_axis.z,
+                ]
+            })
+            .collect();
+        (state, points)
+    })
+}
+
+/// A pile big enough for the contact solve to be coloured and spread over the threads
+/// (`physics::contact_colors`) ends bit for bit where it does on one thread.
+#[test]
+fn the_parallel_contact_solve_does_not_change_a_bit() {
+    let (single, points) = rain_state(1000, 120, 1);
+    assert!(
+        points >= rigid::physics::contact_colors::MIN_COLORED_CONTACTS,
+        "only {points} contact points: the solve was not coloured"
+    );
+    for threads in [2, 4] {
+        let (other, _) = rain_state(1000, 120, threads);
+        assert!(other == single, "{threads} threads differ");
+    }
+}

@@ -1,14 +1,17 @@
-//! Work against precision of the contact pipelines on the reference cases with analytic
-//! answers (C2, C4, C5, C6, C8, C11; one file per case below), over dt and substeps (soft)
+//! Work against precision of the contact pipelines on the reference cases C2 and C4–C11 (one
+//! file per case below; C1 and C3 have no contacts and are the integrators' cases), over dt and substeps (soft)
 //! or slices (classic). The scene parameters are those of the tests (`tests/soft_solver.rs`,
 //! `tests/classic.rs`, `tests/world_contacts.rs`), so that the bench and the tests measure
 //! the same scenes; every case runs through the whole `World` step.
 
 mod bounce;
+mod cradle;
 mod elastic_pair;
 mod incline;
+mod pyramid;
 mod rolling;
 mod slide;
+mod stack;
 mod tunnelling;
 
 use glam::{DQuat, DVec3};
@@ -29,12 +32,15 @@ const REPEATS: usize = 5;
 pub const MAX_RUN_SECONDS: f64 = 1.0;
 
 /// Every case, in the order of the tables.
-pub const CASES: [Case; 6] = [
+pub const CASES: [Case; 9] = [
     bounce::CASE,
     slide::CASE,
     incline::CASE,
     rolling::CASE,
+    cradle::CASE,
     elastic_pair::CASE,
+    stack::CASE,
+    pyramid::CASE,
     tunnelling::CASE,
 ];
 
@@ -58,6 +64,8 @@ pub struct Case {
     /// A second outcome reported beside each configuration, with its column title; not timed
     /// (C5: whether the stick case sticks).
     pub check: Option<Check>,
+    /// Whether the default settings must meet the 2 % its test asserts (see the test below).
+    pub meets_tolerance_at_default: bool,
 }
 
 /// One run of a case's scene: the error against the analytic answer.
@@ -75,6 +83,15 @@ impl Case {
             seconds,
             run,
             check: None,
+            meets_tolerance_at_default: true,
+        }
+    }
+
+    /// For a case the default pipeline is known not to meet (C7 with the soft solver).
+    const fn without_default_tolerance(self) -> Case {
+        Case {
+            meets_tolerance_at_default: false,
+            ..self
         }
     }
 }
@@ -187,6 +204,15 @@ fn run_for(world: &mut World, seconds: f64, dt: f64, mut after_step: impl FnMut(
     }
 }
 
+/// The farthest any of `bodies` moved from its `start`, m.
+fn worst_drift(world: &World, bodies: &[BodyId], start: &[DVec3]) -> f64 {
+    bodies
+        .iter()
+        .zip(start)
+        .map(|(&b, &p0)| (world.body(b).position - p0).length())
+        .fold(0.0, f64::max)
+}
+
 /// |measured − expected| / |expected|.
 fn relative_error(measured: f64, expected: f64) -> f64 {
     (measured - expected).abs() / expected.abs()
@@ -197,7 +223,9 @@ mod tests {
     use super::*;
 
     /// At the default settings (soft, 8 substeps, dt = 1/60) every case meets the
-    /// tolerance its test asserts: the bench measures the scenes the tests check.
+    /// tolerance its test asserts: the bench measures the scenes the tests check. C7 is the
+    /// exception: the soft solver spreads the cradle's momentum, and its test checks only
+    /// that momentum and energy are kept; the classic pipeline must pass it on instead.
     #[test]
     fn every_case_meets_its_test_tolerance_at_the_default_settings() {
         let config = Config {
@@ -205,10 +233,17 @@ mod tests {
             substeps: crate::physics::soft_solver::SoftSolverSettings::default().substeps,
             dt: 1.0 / 60.0,
         };
-        for case in &CASES {
+        for case in CASES.iter().filter(|c| c.meets_tolerance_at_default) {
             let error = (case.run)(&config);
             assert!(error < 0.02, "{}: {error}", case.title);
         }
+        let classic = Config {
+            pipeline: Pipeline::Classic,
+            substeps: 1,
+            ..config
+        };
+        let cradle = (cradle::CASE.run)(&classic);
+        assert!(cradle < 0.05, "C7 classic: {cradle}");
         let (_, stick) = incline::CASE.check.expect("C5 has a stick check");
         let outcome = stick(&config);
         assert!(outcome.starts_with("sticks"), "{outcome}");

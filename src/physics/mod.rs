@@ -11,6 +11,7 @@ pub mod classic;
 pub mod compound;
 pub mod contact;
 pub mod contact_cache;
+pub mod contact_colors;
 pub mod epa;
 pub mod forces;
 pub mod gjk;

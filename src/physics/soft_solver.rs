@@ -19,13 +19,15 @@
 //! the geometric mean √(μa μb).
 
 use glam::DVec3;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::physics::body::RigidBody;
+use crate::physics::contact_colors::ContactColors;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::impulse::{Arms, clamp_to_friction_disc, tangent_basis};
 use crate::physics::integrate::{self, Integrator};
-use crate::physics::solver_bodies::{FIXED_SLOT, SolverBodies, SolverBody};
+use crate::physics::solver_bodies::{FIXED_SLOT, SharedBodies, SolverBodies, SolverBody};
 use crate::physics::stage_times::Stopwatch;
 
 /// A contact point handed to the solver. The normal points from body `a` to body `b`.
@@ -116,25 +118,21 @@ impl Side {
     }
 
     /// Speed of the body's material point at the contact along direction k (`d`).
-    fn speed(&self, bodies: &[SolverBody], k: usize, d: DVec3) -> f64 {
-        let body = &bodies[self.slot as usize];
+    fn speed(&self, bodies: &SharedBodies, k: usize, d: DVec3) -> f64 {
+        let body = bodies.get(self.slot);
         d.dot(body.linear_momentum) * body.inv_mass + body.angular_momentum.dot(self.spin[k])
     }
 
-    fn anchor_in_world(&self, bodies: &[SolverBody]) -> DVec3 {
+    fn anchor_in_world(&self, bodies: &SharedBodies) -> DVec3 {
         if self.slot == FIXED_SLOT {
             return self.anchor;
         }
-        let body = &bodies[self.slot as usize];
+        let body = bodies.get(self.slot);
         body.position + body.orientation * self.anchor
     }
 
-    fn push(&self, bodies: &mut [SolverBody], linear: DVec3, angular: DVec3) {
-        if self.slot != FIXED_SLOT {
-            let body = &mut bodies[self.slot as usize];
-            body.linear_momentum += linear;
-            body.angular_momentum += angular;
-        }
+    fn push(&self, bodies: &SharedBodies, linear: DVec3, angular: DVec3) {
+        bodies.add(self.slot, linear, angular);
     }
 }
 
@@ -156,6 +154,13 @@ struct PointConstraint {
     /// `rebound_speed`); before the step until the contact first pushes. What restitution
     /// reflects.
     approach_speed: f64,
+    /// The fastest approach the pair can reach in this step on its own (`fastest_approach`).
+    /// A neighbour solved
+    /// earlier in the same pass can push the bodies together faster; that momentum is the
+    /// neighbour's contact's business, and bouncing it here too would add energy (a ball
+    /// pressed onto a pin by another gained 6 % of its energy in one step when the
+    /// ball–ball contact happened to be solved first).
+    fastest_approach: f64,
     /// Relative normal acceleration from the environmental forces, for the impact speed.
     approach_acceleration: f64,
     friction: f64,
@@ -168,13 +173,13 @@ impl PointConstraint {
     }
 
     /// Relative speed of b's material point over a's along direction k.
-    fn speed(&self, bodies: &[SolverBody], k: usize) -> f64 {
+    fn speed(&self, bodies: &SharedBodies, k: usize) -> f64 {
         let d = self.directions[k];
         self.b.speed(bodies, k, d) - self.a.speed(bodies, k, d)
     }
 
     /// Impulses λ along the three directions: +Σ λ d to b, −Σ λ d to a, at their arms.
-    fn apply(&self, bodies: &mut [SolverBody], lambda: [f64; 3]) {
+    fn apply(&self, bodies: &SharedBodies, lambda: [f64; 3]) {
         let along = |v: &[DVec3; 3]| v[0] * lambda[0] + v[1] * lambda[1] + v[2] * lambda[2];
         let linear = along(&self.directions);
         self.a.push(bodies, -linear, -along(&self.a.arm));
@@ -182,18 +187,23 @@ impl PointConstraint {
     }
 
     /// A normal impulse only.
-    fn apply_normal(&self, bodies: &mut [SolverBody], lambda: f64) {
+    fn apply_normal(&self, bodies: &SharedBodies, lambda: f64) {
         let linear = self.directions[0] * lambda;
         self.a.push(bodies, -linear, self.a.arm[0] * -lambda);
         self.b.push(bodies, linear, self.b.arm[0] * lambda);
     }
 
     /// Friction impulses along the two tangents.
-    fn apply_tangent(&self, bodies: &mut [SolverBody], [l1, l2]: [f64; 2]) {
+    fn apply_tangent(&self, bodies: &SharedBodies, [l1, l2]: [f64; 2]) {
         let along = |v: &[DVec3; 3]| v[1] * l1 + v[2] * l2;
         let linear = along(&self.directions);
         self.a.push(bodies, -linear, -along(&self.a.arm));
         self.b.push(bodies, linear, along(&self.b.arm));
+    }
+
+    /// The next point of the same manifold (or of one between the same two bodies).
+    fn same_bodies(&self, other: &PointConstraint) -> bool {
+        self.a.slot == other.a.slot && self.b.slot == other.b.slot
     }
 }
 
@@ -237,7 +247,9 @@ pub struct SoftStep {
 /// they have grown to the scene.
 #[derive(Clone, Debug, Default)]
 pub struct SoftScratch {
+    /// In colour order (see `contact_colors`).
     constraints: Vec<PointConstraint>,
+    colors: ContactColors,
     user_forces: Vec<(DVec3, DVec3)>,
     bodies: SolverBodies,
 }
@@ -246,7 +258,8 @@ impl SoftScratch {
     /// The impulses each contact ended the last step with (in the order of its contacts),
     /// for warm starting.
     pub fn impulses(&self) -> impl Iterator<Item = WarmImpulse> + '_ {
-        self.constraints.iter().map(|c| c.impulse)
+        let constraints = &self.constraints;
+        (self.colors.position_of.iter()).map(move |&k| constraints[k as usize].impulse)
     }
 }
 
@@ -261,15 +274,21 @@ pub fn step(
 ) -> SoftStep {
     let SoftScratch {
         constraints,
+        colors,
         user_forces,
         bodies: slots,
     } = scratch;
     slots.assign(bodies, awake);
+    let contact_slots = contacts
+        .iter()
+        .map(|c| [slots.slot_of(c.a), slots.slot_of(c.b)]);
+    colors.assign(contact_slots, slots.slots.len(), FIXED_SLOT);
     constraints.clear();
     constraints.extend(
-        contacts
+        colors
+            .order
             .iter()
-            .map(|c| prepare(bodies, slots, c, ctx.forces)),
+            .map(|&k| prepare(bodies, slots, &contacts[k as usize], ctx.forces, ctx.dt)),
     );
     let substeps = ctx.settings.substeps.max(1);
     let h = ctx.dt / substeps as f64;
@@ -294,13 +313,13 @@ pub fn step(
         }
         integrate_seconds += clock.lap();
         slots.gather(bodies);
-        warm_start(&mut slots.slots, constraints);
-        solve(
-            &mut slots.slots,
-            constraints,
-            h,
-            Some((softness, ctx.settings.max_push_out)),
-        );
+        let biased = Some((softness, ctx.settings.max_push_out));
+        for_each_contact(&mut slots.slots, constraints, colors, |bodies, c| {
+            warm_start(bodies, c)
+        });
+        for_each_contact(&mut slots.slots, constraints, colors, |bodies, c| {
+            solve(bodies, c, h, biased)
+        });
         slots.scatter(bodies);
         clock.lap();
         for &index in awake {
@@ -308,15 +327,21 @@ pub fn step(
         }
         integrate_seconds += clock.lap();
         slots.gather(bodies);
-        solve(&mut slots.slots, constraints, h, None);
+        for_each_contact(&mut slots.slots, constraints, colors, |bodies, c| {
+            solve(bodies, c, h, None)
+        });
         slots.scatter(bodies);
     }
-    apply_restitution(
-        &mut slots.slots,
-        constraints,
-        ctx.settings.restitution_threshold,
-        h,
-    );
+    // One pass, in contact order rather than colour order, on one thread. A body bouncing
+    // off two things in one step gets both rebounds one after the other, and the second
+    // changes the first's outgoing speed: the order decides how much energy that adds. In
+    // colour order the pachinko soak saw a ball gain 6 % of its energy in one step (1e-4 of
+    // the scene's); in contact order it never gains. A single pass is cheap to keep serial.
+    let threshold = ctx.settings.restitution_threshold;
+    let shared = SharedBodies::new(&mut slots.slots);
+    for &k in &colors.position_of {
+        apply_restitution(&shared, &mut constraints[k as usize], threshold, h);
+    }
     slots.scatter(bodies);
     slots.release();
     for &index in awake {
@@ -347,6 +372,7 @@ fn prepare(
     slots: &SolverBodies,
     contact: &ContactInput,
     forces: &[EnvironmentForce],
+    dt: f64,
 ) -> PointConstraint {
     let (a, b) = (&bodies[contact.a], &bodies[contact.b]);
     let normal = contact.normal;
@@ -354,6 +380,9 @@ fn prepare(
     let directions = [normal, t1, t2];
     let arms = Arms::at(bodies, contact.a, contact.b, contact.point);
     let (r_a, r_b) = (arms.r_a, arms.r_b);
+    let approach_speed = normal.dot(arms.relative_velocity(bodies));
+    let approach_acceleration =
+        normal.dot(environment_acceleration(b, forces) - environment_acceleration(a, forces));
     PointConstraint {
         a: Side::new(a, slots.slot_of(contact.a), r_a, &directions),
         b: Side::new(b, slots.slot_of(contact.b), r_b, &directions),
@@ -366,43 +395,71 @@ fn prepare(
         ],
         impulse: contact.warm_impulse,
         max_normal_impulse: 0.0,
-        approach_speed: normal.dot(arms.relative_velocity(bodies)),
-        approach_acceleration: normal
-            .dot(environment_acceleration(b, forces) - environment_acceleration(a, forces)),
+        approach_speed,
+        fastest_approach: fastest_approach(approach_speed, approach_acceleration, contact, dt),
+        approach_acceleration,
         friction: (a.material.friction * b.material.friction).sqrt(),
         restitution: a.material.restitution.min(b.material.restitution),
     }
 }
 
+/// Contacts in a colour that make it worth spreading over the threads.
+const PARALLEL_MIN_CONTACTS: usize = 128;
+
+/// Runs `task` on every contact, colour by colour (see `contact_colors`). A colour large
+/// enough is spread over the threads, a manifold per task; the result is the same to the
+/// last bit, as its manifolds share no moving body.
+fn for_each_contact<F>(
+    bodies: &mut [SolverBody],
+    constraints: &mut [PointConstraint],
+    colors: &ContactColors,
+    task: F,
+) where
+    F: Fn(&SharedBodies, &mut PointConstraint) + Sync,
+{
+    let shared = SharedBodies::new(bodies);
+    for (range, parallel) in colors.ranges() {
+        let color = &mut constraints[range];
+        if parallel && color.len() >= PARALLEL_MIN_CONTACTS {
+            color
+                .par_chunk_by_mut(PointConstraint::same_bodies)
+                .for_each(|manifold| manifold.iter_mut().for_each(|c| task(&shared, c)));
+        } else {
+            color.iter_mut().for_each(|c| task(&shared, c));
+        }
+    }
+}
+
+/// The fastest the pair can be closing when it meets in this step with no other contact
+/// pushing it: falling the whole gap from its speed at step start under the environment's
+/// acceleration |a|, −√(v² + 2|a|s), plus |a|·dt of slack for the discrete arc's offsets.
+fn fastest_approach(speed: f64, acceleration: f64, contact: &ContactInput, dt: f64) -> f64 {
+    let closing = speed.min(0.0);
+    let gap = contact.separation.max(0.0);
+    let fall = (closing * closing + 2.0 * acceleration.abs() * gap).sqrt();
+    -fall - acceleration.abs() * dt
+}
+
 /// Current separation: the anchors carried along by the bodies' motion in this step.
-fn current_separation(bodies: &[SolverBody], c: &PointConstraint) -> f64 {
+fn current_separation(bodies: &SharedBodies, c: &PointConstraint) -> f64 {
     let (anchor_a, anchor_b) = (c.a.anchor_in_world(bodies), c.b.anchor_in_world(bodies));
     c.normal().dot(anchor_b - anchor_a) + c.separation_offset
 }
 
-fn warm_start(bodies: &mut [SolverBody], constraints: &[PointConstraint]) {
-    for c in constraints {
-        let [t1, t2] = c.impulse.tangent;
-        c.apply(bodies, [c.impulse.normal, t1, t2]);
-    }
+fn warm_start(bodies: &SharedBodies, c: &mut PointConstraint) {
+    let [t1, t2] = c.impulse.tangent;
+    c.apply(bodies, [c.impulse.normal, t1, t2]);
 }
 
-/// One pass over all constraints: normal (soft or rigid) then friction.
+/// One contact's share of a pass: normal (soft or rigid) then friction.
 /// `bias` is the softness and push-out cap when solving with position bias, None to relax.
-fn solve(
-    bodies: &mut [SolverBody],
-    constraints: &mut [PointConstraint],
-    h: f64,
-    bias: Option<(Softness, f64)>,
-) {
-    for c in constraints.iter_mut() {
-        solve_normal(bodies, c, h, bias);
-        solve_friction(bodies, c);
-    }
+fn solve(bodies: &SharedBodies, c: &mut PointConstraint, h: f64, bias: Option<(Softness, f64)>) {
+    solve_normal(bodies, c, h, bias);
+    solve_friction(bodies, c);
 }
 
 fn solve_normal(
-    bodies: &mut [SolverBody],
+    bodies: &SharedBodies,
     c: &mut PointConstraint,
     h: f64,
     bias: Option<(Softness, f64)>,
@@ -433,7 +490,7 @@ fn solve_normal(
         // where it ended after (the relax pass), which sets the arc speed there.
         let a = c.approach_acceleration;
         let arc_speed = normal_speed + if bias.is_some() { -0.5 } else { 0.5 } * a * h;
-        c.approach_speed = impact_speed(arc_speed, a, separation);
+        c.approach_speed = impact_speed(arc_speed, a, separation).max(c.fastest_approach);
     }
     c.impulse.normal = accumulated;
     c.max_normal_impulse = c.max_normal_impulse.max(applied);
@@ -441,7 +498,7 @@ fn solve_normal(
 }
 
 /// Coulomb friction: the tangential impulse stays inside the disc of radius μ·λn.
-fn solve_friction(bodies: &mut [SolverBody], c: &mut PointConstraint) {
+fn solve_friction(bodies: &SharedBodies, c: &mut PointConstraint) {
     let limit = c.friction * c.impulse.normal;
     let unclamped = [
         c.impulse.tangent[0] - c.tangent_mass[0] * c.speed(bodies, 1),
@@ -459,25 +516,19 @@ fn solve_friction(bodies: &mut [SolverBody], c: &mut PointConstraint) {
 /// Newton's restitution on contacts that were approaching faster than the threshold: the
 /// outgoing normal speed becomes ε times the approach speed, as `rebound_speed` reads it
 /// for the substeps of length `h`.
-fn apply_restitution(
-    bodies: &mut [SolverBody],
-    constraints: &mut [PointConstraint],
-    threshold: f64,
-    h: f64,
-) {
-    for c in constraints.iter_mut() {
-        if c.restitution == 0.0 || c.approach_speed > -threshold || c.max_normal_impulse == 0.0 {
-            continue;
-        }
-        let gap = current_separation(bodies, c).max(0.0);
-        let normal_speed = c.speed(bodies, 0);
-        let delta = -c.normal_mass * (normal_speed - rebound_speed(c, gap, h));
-        let accumulated = (c.impulse.normal + delta).max(0.0);
-        let applied = accumulated - c.impulse.normal;
-        c.impulse.normal = accumulated;
-        c.apply_normal(bodies, applied);
+fn apply_restitution(bodies: &SharedBodies, c: &mut PointConstraint, threshold: f64, h: f64) {
+    if c.restitution == 0.0 || c.approach_speed > -threshold || c.max_normal_impulse == 0.0 {
+        return;
     }
+    let gap = current_separation(bodies, c).max(0.0);
+    let normal_speed = c.speed(bodies, 0);
+    let delta = -c.normal_mass * (normal_speed - rebound_speed(c, gap, h));
+    let accumulated = (c.impulse.normal + delta).max(0.0);
+    let applied = accumulated - c.impulse.normal;
+    c.impulse.normal = accumulated;
+    c.apply_normal(bodies, applied);
 }
+
 /// The normal speed a bounce leaves with, `gap` apart, under the relative acceleration a.
 ///
 /// A substep (kick v += a h, then drift x += v h) conserves ½ (v + ½ a h)² − a·x exactly

@@ -6,6 +6,8 @@
 //! Slot 0 stands for every body that does not move in this step (static, asleep): zero
 //! momenta and inverse mass, never written.
 
+use std::marker::PhantomData;
+
 use glam::{DMat3, DVec3};
 
 use crate::physics::body::RigidBody;
@@ -94,5 +96,51 @@ fn gathered(body: &RigidBody) -> SolverBody {
         position: body.position,
         orientation: body.orientation,
         inv_mass: body.inv_mass,
+    }
+}
+
+/// The solver bodies, open to the contacts of one colour on several threads at once.
+///
+/// Contacts of one colour share no moving body (`contact_colors`), so while a colour is
+/// solved each slot but `FIXED_SLOT` is read and written by one thread only, and
+/// `FIXED_SLOT` is only read. That is the whole safety argument for the raw pointer below:
+/// no slot is ever reachable from two threads while one of them writes it.
+#[derive(Clone, Copy)]
+pub struct SharedBodies<'a> {
+    slots: *mut SolverBody,
+    len: usize,
+    _borrow: PhantomData<&'a mut [SolverBody]>,
+}
+
+// SAFETY: see the type's comment; the colouring keeps threads on disjoint slots.
+unsafe impl Send for SharedBodies<'_> {}
+unsafe impl Sync for SharedBodies<'_> {}
+
+impl<'a> SharedBodies<'a> {
+    pub fn new(slots: &'a mut [SolverBody]) -> Self {
+        SharedBodies {
+            slots: slots.as_mut_ptr(),
+            len: slots.len(),
+            _borrow: PhantomData,
+        }
+    }
+
+    pub fn get(&self, slot: u32) -> &SolverBody {
+        assert!((slot as usize) < self.len, "slot {slot} out of range");
+        // SAFETY: in range; no other thread writes this slot (see the type's comment), and
+        // this thread does not write it while the reference lives (`add` takes no borrow).
+        unsafe { &*self.slots.add(slot as usize) }
+    }
+
+    /// Adds to a moving body's momenta; does nothing for `FIXED_SLOT`.
+    pub fn add(&self, slot: u32, linear: DVec3, angular: DVec3) {
+        if slot == FIXED_SLOT {
+            return;
+        }
+        assert!((slot as usize) < self.len, "slot {slot} out of range");
+        // SAFETY: in range, and only this thread reaches this slot in this colour.
+        let body = unsafe { &mut *self.slots.add(slot as usize) };
+        body.linear_momentum += linear;
+        body.angular_momentum += angular;
     }
 }

@@ -1,0 +1,208 @@
+//! Graph colouring of the contacts, so that the soft solver can work on many at once.
+//!
+//! The points of one manifold (a run of contacts with the same two bodies) form a unit
+//! that one thread solves in order. Units get colours greedily, in contact order: the
+//! lowest colour that neither of their moving bodies has yet. Within a colour no two units
+//! share a moving body, so they can be solved in any order or all at once with the same
+//! result to the last bit; colours are solved one after the other. Bodies that do not move
+//! in the step (static, asleep) never conflict: nothing writes to them.
+//!
+//! The colouring depends only on the contacts, never on the number of threads, so neither
+//! do the results.
+//!
+//! Colour order is not contact order, and one pass of sequential impulses converges better
+//! in contact order on stacks (bodies are added bottom up, so pairs run bottom up): the
+//! 20-layer pyramid (about 1600 contact points), awake, shook at 8.4 mm/s in colour order
+//! against 3.2 mm/s. So only steps with at least `MIN_COLORED_CONTACTS` contacts are
+//! coloured, where the threads pay most; smaller ones keep contact order in one serial
+//! colour.
+
+/// Colours a step may use; units that find none free go to the last, solved serially.
+pub const MAX_COLORS: usize = 64;
+/// Below this many contacts a step is not coloured (see the module comment).
+pub const MIN_COLORED_CONTACTS: usize = 4096;
+const SERIAL_COLOR: usize = MAX_COLORS - 1;
+
+/// The contacts in colour order, kept between steps so that no step allocates.
+#[derive(Clone, Debug, Default)]
+pub struct ContactColors {
+    /// Contact indices, colour by colour; within a colour, in contact order.
+    pub order: Vec<u32>,
+    /// Where colour k's contacts are in `order`: `starts[k]..starts[k + 1]`.
+    starts: Vec<usize>,
+    /// The colours each moving body already has, one bit per colour, by slot.
+    used: Vec<u64>,
+    /// The colour of each contact.
+    color_of: Vec<u8>,
+    /// Where each contact ended up in `order`.
+    pub position_of: Vec<u32>,
+}
+
+impl ContactColors {
+    /// Colours the contacts, given the two slots of each (`fixed_slot` for a body that does
+    /// not move) and the number of slots.
+    pub fn assign(
+        &mut self,
+        slots: impl ExactSizeIterator<Item = [u32; 2]>,
+        slot_count: usize,
+        fixed_slot: u32,
+    ) {
+        self.used.clear();
+        self.used.resize(slot_count, 0);
+        self.color_of.clear();
+        let colored = slots.len() >= MIN_COLORED_CONTACTS;
+        let mut unit: Option<([u32; 2], usize)> = None;
+        for pair in slots {
+            let color = match unit {
+                _ if !colored => SERIAL_COLOR,
+                Some((current, color)) if current == pair => color,
+                _ => self.first_free(pair, fixed_slot),
+            };
+            unit = Some((pair, color));
+            self.color_of.push(color as u8);
+        }
+        self.sort_by_color();
+    }
+
+    /// The lowest colour neither moving body has, taken for both.
+    fn first_free(&mut self, pair: [u32; 2], fixed_slot: u32) -> usize {
+        let moving = pair.iter().filter(|&&slot| slot != fixed_slot);
+        let taken = moving
+            .clone()
+            .fold(0, |mask, &slot| mask | self.used[slot as usize]);
+        let color = ((!taken).trailing_zeros() as usize).min(SERIAL_COLOR);
+        for &slot in moving {
+            self.used[slot as usize] |= 1 << color;
+        }
+        color
+    }
+
+    /// A counting sort of the contacts by colour, stable within each colour.
+    fn sort_by_color(&mut self) {
+        self.starts.clear();
+        self.starts.resize(MAX_COLORS + 1, 0);
+        for &color in &self.color_of {
+            self.starts[color as usize + 1] += 1;
+        }
+        for k in 0..MAX_COLORS {
+            self.starts[k + 1] += self.starts[k];
+        }
+        let mut next = self.starts.clone();
+        self.order.clear();
+        self.order.resize(self.color_of.len(), 0);
+        self.position_of.clear();
+        self.position_of.resize(self.color_of.len(), 0);
+        for (contact, &color) in self.color_of.iter().enumerate() {
+            let position = next[color as usize];
+            next[color as usize] += 1;
+            self.order[position] = contact as u32;
+            self.position_of[contact] = position as u32;
+        }
+    }
+
+    /// The ranges of the colour-ordered contacts, one per colour in use, and whether the
+    /// contacts in it may be solved at the same time (all but the serial colour).
+    pub fn ranges(&self) -> impl Iterator<Item = (std::ops::Range<usize>, bool)> + '_ {
+        (0..MAX_COLORS)
+            .map(|k| (self.starts[k]..self.starts[k + 1], k != SERIAL_COLOR))
+            .filter(|(range, _)| !range.is_empty())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const FIXED: u32 = 0;
+
+    fn colored(pairs: &[[u32; 2]], slots: usize) -> ContactColors {
+        let mut colors = ContactColors::default();
+        colors.assign(pairs.iter().copied(), slots, FIXED);
+        colors
+    }
+
+    /// Copies of a scene on their own bodies (slot 0 stays the shared ground), until there
+    /// are enough contacts to be coloured at all.
+    fn copies(pairs: &[[u32; 2]], bodies: u32) -> (Vec<[u32; 2]>, usize) {
+        let count = MIN_COLORED_CONTACTS.div_ceil(pairs.len()) as u32;
+        let shift = |slot: u32, k: u32| {
+            if slot == FIXED {
+                FIXED
+            } else {
+                slot + k * bodies
+            }
+        };
+        let all = (0..count)
+            .flat_map(|k| pairs.iter().map(move |p| p.map(|slot| shift(slot, k))))
+            .collect();
+        (all, (count * bodies + 1) as usize)
+    }
+
+    /// Too few contacts: one serial colour in contact order.
+    #[test]
+    fn few_contacts_keep_contact_order() {
+        let pairs = [[0, 1], [1, 2], [2, 3]];
+        let mut colors = ContactColors::default();
+        colors.assign(pairs.iter().copied(), 4, FIXED);
+        let ranges: Vec<_> = colors.ranges().collect();
+        assert_eq!(ranges, vec![(0..3, false)]);
+        assert_eq!(colors.order, vec![0, 1, 2]);
+    }
+
+    /// No two units of a colour share a moving body, the points of one manifold stay
+    /// together and in order, and every contact appears once.
+    #[test]
+    fn a_color_never_shares_a_moving_body() {
+        // A chain 1-2-3-4 on the ground (slot 0), with two-point manifolds.
+        let pairs = [
+            [0, 1],
+            [0, 1],
+            [1, 2],
+            [1, 2],
+            [2, 3],
+            [0, 2],
+            [3, 4],
+            [3, 4],
+            [0, 4],
+        ];
+        let (pairs, slots) = copies(&pairs, 4);
+        let colors = colored(&pairs, slots);
+        let mut seen = vec![false; pairs.len()];
+        for (range, parallel) in colors.ranges() {
+            assert!(parallel);
+            let mut bodies = vec![];
+            let mut previous: Option<[u32; 2]> = None;
+            for &contact in &colors.order[range] {
+                let pair = pairs[contact as usize];
+                assert!(!seen[contact as usize]);
+                seen[contact as usize] = true;
+                if previous != Some(pair) {
+                    for slot in pair.into_iter().filter(|&s| s != FIXED) {
+                        assert!(!bodies.contains(&slot), "slot {slot} twice in a colour");
+                        bodies.push(slot);
+                    }
+                }
+                previous = Some(pair);
+            }
+        }
+        assert!(seen.iter().all(|&s| s));
+        // The two points of the first manifold are next to each other, in order.
+        let first = colors.position_of[0] as usize;
+        assert_eq!(colors.order[first + 1], 1);
+        // Greedy on this chain needs three colours: 1-2 and 2-3 meet 0-1's and each other's.
+        assert_eq!(colors.ranges().count(), 3);
+    }
+
+    /// A body touching more than the colours can hold sends the rest to the serial colour.
+    #[test]
+    fn overflow_goes_to_the_serial_color() {
+        let leaves = MIN_COLORED_CONTACTS as u32;
+        let pairs: Vec<[u32; 2]> = (2..2 + leaves).map(|k| [1, k]).collect();
+        let colors = colored(&pairs, leaves as usize + 2);
+        let ranges: Vec<_> = colors.ranges().collect();
+        assert_eq!(ranges.len(), MAX_COLORS);
+        let (last, parallel) = ranges.last().unwrap().clone();
+        assert!(!parallel);
+        assert_eq!(last.len(), pairs.len() - (MAX_COLORS - 1));
+    }
+}
