@@ -17,6 +17,8 @@
 //! coloured, where the threads pay most; smaller ones keep contact order in one serial
 //! colour.
 
+use std::ops::Range;
+
 /// Colours a step may use; units that find none free go to the last, solved serially.
 pub const MAX_COLORS: usize = 64;
 /// Below this many contacts a step is not coloured (see the module comment).
@@ -30,6 +32,10 @@ pub struct ContactColors {
     pub order: Vec<u32>,
     /// Where colour k's contacts are in `order`: `starts[k]..starts[k + 1]`.
     starts: Vec<usize>,
+    /// The next free place of each colour while sorting.
+    next: Vec<usize>,
+    /// The colours in use: their contacts in `order`, and whether they may run at once.
+    used_ranges: Vec<(Range<usize>, bool)>,
     /// The colours each moving body already has, one bit per colour, by slot.
     used: Vec<u64>,
     /// The colour of each contact.
@@ -87,25 +93,35 @@ impl ContactColors {
         for k in 0..MAX_COLORS {
             self.starts[k + 1] += self.starts[k];
         }
-        let mut next = self.starts.clone();
+        self.next.clear();
+        self.next.extend_from_slice(&self.starts);
         self.order.clear();
         self.order.resize(self.color_of.len(), 0);
         self.position_of.clear();
         self.position_of.resize(self.color_of.len(), 0);
         for (contact, &color) in self.color_of.iter().enumerate() {
-            let position = next[color as usize];
-            next[color as usize] += 1;
+            let position = self.next[color as usize];
+            self.next[color as usize] += 1;
             self.order[position] = contact as u32;
             self.position_of[contact] = position as u32;
         }
+        self.collect_ranges();
     }
 
     /// The ranges of the colour-ordered contacts, one per colour in use, and whether the
     /// contacts in it may be solved at the same time (all but the serial colour).
-    pub fn ranges(&self) -> impl Iterator<Item = (std::ops::Range<usize>, bool)> + '_ {
-        (0..MAX_COLORS)
-            .map(|k| (self.starts[k]..self.starts[k + 1], k != SERIAL_COLOR))
-            .filter(|(range, _)| !range.is_empty())
+    pub fn ranges(&self) -> impl Iterator<Item = (Range<usize>, bool)> + '_ {
+        self.used_ranges.iter().cloned()
+    }
+
+    fn collect_ranges(&mut self) {
+        self.used_ranges.clear();
+        for k in 0..MAX_COLORS {
+            let range = self.starts[k]..self.starts[k + 1];
+            if !range.is_empty() {
+                self.used_ranges.push((range, k != SERIAL_COLOR));
+            }
+        }
     }
 }
 
