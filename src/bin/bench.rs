@@ -110,7 +110,8 @@ fn integrator_case(
         .collect();
     let front = front.iter().map(|m| (m.micros_per_sim_second, m.error));
     let svg = work_precision_plot(title, error_label, lines, front.collect());
-    write_plot(plots, &format!("{file}.svg"), &svg)
+    let alt = format!("{file}: error against cost");
+    write_plot(plots, &format!("{file}.svg"), &alt, &svg)
 }
 
 fn contact_tables(plots: &Path) -> Result<(), String> {
@@ -128,7 +129,8 @@ fn contact_tables(plots: &Path) -> Result<(), String> {
         let lines = contact_lines(&sweep.points);
         let front = front.iter().map(|p| (p.micros_per_second, p.error));
         let svg = work_precision_plot(case.title, "relative error", lines, front.collect());
-        write_plot(plots, &format!("{}.svg", case.file), &svg)?;
+        let alt = format!("{}: error against cost", case.file);
+        write_plot(plots, &format!("{}.svg", case.file), &alt, &svg)?;
     }
     println!("### Pareto fronts of every contact case\n");
     println!("| case | front, cheapest first |\n|---|---|");
@@ -257,11 +259,12 @@ fn describe(p: &Point) -> String {
     )
 }
 
-fn write_plot(dir: &Path, name: &str, svg: &str) -> Result<(), String> {
+/// Writes the plot and prints the Markdown that shows it, `alt` as its text.
+fn write_plot(dir: &Path, name: &str, alt: &str, svg: &str) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let path = dir.join(name);
     std::fs::write(&path, svg).map_err(|e| format!("{}: {e}", path.display()))?;
-    println!("Plot: `{}`\n", path.display());
+    println!("![{alt}]({})\n", path.display());
     Ok(())
 }
 
@@ -311,7 +314,7 @@ fn scaling_table(plots: &Path) -> Result<(), String> {
         "ms per step",
         &series,
     );
-    write_plot(plots, "scaling.svg", &svg)
+    write_plot(plots, "scaling.svg", "step time against body count", &svg)
 }
 
 fn profile_table() {
