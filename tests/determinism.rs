@@ -190,15 +190,20 @@ fn bad_recordings_and_saved_worlds_are_reported() {
 /// scene under test and the later ones the pyramid it loads.
 const CHECKPOINT_EVERY: u64 = 25;
 
-/// The session on `scene` with `threads` rayon threads: the world text at every checkpoint,
-/// and the most contact manifolds any step before the reset found.
-fn checkpoints(scene: &str, threads: usize) -> (Vec<(u64, String)>, usize) {
+/// Runs `work` in a rayon pool of `threads` threads.
+fn on_threads<T: Send>(threads: usize, work: impl FnOnce() -> T + Send) -> T {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap();
+    pool.install(work)
+}
+
+/// The session on `scene` with `threads` rayon threads: the world text at every checkpoint,
+/// and the most contact manifolds any step before the reset found.
+fn checkpoints(scene: &str, threads: usize) -> (Vec<(u64, String)>, usize) {
     let (mut texts, mut most_manifolds) = (vec![], 0);
-    pool.install(|| {
+    on_threads(threads, || {
         drive_watching(scene, &session(), 200, |sim| {
             if sim.ticks() <= 150 {
                 most_manifolds = most_manifolds.max(sim.world().contacts().len());
@@ -238,11 +243,7 @@ fn the_number_of_threads_does_not_change_a_bit() {
 /// The state of every body after `steps` of a rain of `count` bodies on `threads` threads,
 /// and how many contact points the last step solved.
 fn rain_state(count: usize, steps: usize, threads: usize) -> (Vec<[f64; 12]>, usize) {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap();
-    pool.install(|| {
+    on_threads(threads, || {
         let mut world = rigid::bench::rain::rain_world(count, Default::default());
         for _ in 0..steps {
             world.step(1.0 / 60.0);

@@ -17,7 +17,7 @@ mod tunnelling;
 use glam::{DQuat, DVec3};
 
 pub use crate::bench::DTS;
-use crate::bench::median_time;
+use crate::bench::{median_time, worst_drift};
 use crate::physics::{BodyDesc, BodyId};
 use crate::physics::{EnvironmentForce, Material, Pipeline, Shape, World, WorldSettings};
 
@@ -204,13 +204,18 @@ fn run_for(world: &mut World, seconds: f64, dt: f64, mut after_step: impl FnMut(
     }
 }
 
-/// The farthest any of `bodies` moved from its `start`, m.
-fn worst_drift(world: &World, bodies: &[BodyId], start: &[DVec3]) -> f64 {
-    bodies
-        .iter()
-        .zip(start)
-        .map(|(&b, &p0)| (world.body(b).position - p0).length())
-        .fold(0.0, f64::max)
+/// Runs `world` for `seconds` at `dt`; returns the farthest any of `bodies` moved, over
+/// `size` (the drift cases C9 and C10).
+fn drift_over_size(
+    world: &mut World,
+    bodies: &[BodyId],
+    config: &Config,
+    seconds: f64,
+    size: f64,
+) -> f64 {
+    let start: Vec<DVec3> = bodies.iter().map(|&b| world.body(b).position).collect();
+    run_for(world, seconds, config.dt, |_| {});
+    worst_drift(world, bodies, &start) / size
 }
 
 /// |measured − expected| / |expected|.

@@ -15,6 +15,10 @@ pub mod svg_plot;
 
 use std::time::Instant;
 
+use glam::DVec3;
+
+use crate::physics::{BodyId, World};
+
 /// The steps every work-precision sweep runs, s: 1/30 halved five times.
 pub const DTS: [f64; 6] = [
     1.0 / 30.0,
@@ -34,6 +38,15 @@ pub struct Measurement {
     pub error: f64,
     /// Median wall time per simulated second, in microseconds.
     pub micros_per_sim_second: f64,
+}
+
+/// Largest distance any of `bodies` moved from `start`, m.
+pub fn worst_drift(world: &World, bodies: &[BodyId], start: &[DVec3]) -> f64 {
+    bodies
+        .iter()
+        .zip(start)
+        .map(|(&id, s)| world.body(id).position.distance(*s))
+        .fold(0.0, f64::max)
 }
 
 /// Runs `work` `repeats` times and returns its result and the median wall time in seconds.

@@ -4,6 +4,7 @@
 
 use glam::DVec3;
 
+use crate::bench::worst_drift;
 use crate::physics::{Aabb, BodyDesc, BodyId, EnvironmentForce, Material, Shape, World};
 use crate::scene;
 
@@ -52,15 +53,6 @@ pub fn tumbling(steps: usize) -> Outcome {
 fn ground(world: &mut World) {
     let floor = BodyDesc::fixed(Shape::cuboid(DVec3::new(20.0, 0.5, 20.0))).at(DVec3::Y * -0.5);
     world.add_body(floor).expect("valid floor");
-}
-
-/// Largest distance any of `bodies` moved from `start`, m.
-fn worst_drift(world: &World, bodies: &[BodyId], start: &[DVec3]) -> f64 {
-    bodies
-        .iter()
-        .zip(start)
-        .map(|(&id, s)| world.body(id).position.distance(*s))
-        .fold(0.0, f64::max)
 }
 
 /// `height` unit boxes stacked on the ground, 10 s at 1/60 s with the default soft solver.

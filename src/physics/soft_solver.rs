@@ -130,10 +130,6 @@ impl Side {
         let body = bodies.get(self.slot);
         body.position + body.orientation * self.anchor
     }
-
-    fn push(&self, bodies: &SharedBodies, linear: DVec3, angular: DVec3) {
-        bodies.add(self.slot, linear, angular);
-    }
 }
 
 /// One prepared contact point. Its directions are the normal (from a to b), then the two
@@ -180,25 +176,27 @@ impl PointConstraint {
 
     /// Impulses λ along the three directions: +Σ λ d to b, −Σ λ d to a, at their arms.
     fn apply(&self, bodies: &SharedBodies, lambda: [f64; 3]) {
-        let along = |v: &[DVec3; 3]| v[0] * lambda[0] + v[1] * lambda[1] + v[2] * lambda[2];
-        let linear = along(&self.directions);
-        self.a.push(bodies, -linear, -along(&self.a.arm));
-        self.b.push(bodies, linear, along(&self.b.arm));
+        self.push(bodies, |v| {
+            v[0] * lambda[0] + v[1] * lambda[1] + v[2] * lambda[2]
+        });
     }
 
     /// A normal impulse only.
     fn apply_normal(&self, bodies: &SharedBodies, lambda: f64) {
-        let linear = self.directions[0] * lambda;
-        self.a.push(bodies, -linear, self.a.arm[0] * -lambda);
-        self.b.push(bodies, linear, self.b.arm[0] * lambda);
+        self.push(bodies, |v| v[0] * lambda);
     }
 
     /// Friction impulses along the two tangents.
     fn apply_tangent(&self, bodies: &SharedBodies, [l1, l2]: [f64; 2]) {
-        let along = |v: &[DVec3; 3]| v[1] * l1 + v[2] * l2;
+        self.push(bodies, |v| v[1] * l1 + v[2] * l2);
+    }
+
+    /// The impulse `along` the directions to b and its opposite to a; `along` combines the
+    /// three directions, and the same way their arms for the angular impulses.
+    fn push(&self, bodies: &SharedBodies, along: impl Fn(&[DVec3; 3]) -> DVec3) {
         let linear = along(&self.directions);
-        self.a.push(bodies, -linear, -along(&self.a.arm));
-        self.b.push(bodies, linear, along(&self.b.arm));
+        bodies.add(self.a.slot, -linear, -along(&self.a.arm));
+        bodies.add(self.b.slot, linear, along(&self.b.arm));
     }
 
     /// The next point of the same manifold (or of one between the same two bodies).
@@ -312,7 +310,7 @@ pub fn step(
             integrate::integrate_momenta(body, h);
         }
         integrate_seconds += clock.lap();
-        slots.gather(bodies);
+        slots.refresh_momenta(bodies);
         let biased = Some((softness, ctx.settings.max_push_out));
         for_each_contact(&mut slots.slots, constraints, colors, |bodies, c| {
             warm_start(bodies, c)
@@ -326,7 +324,7 @@ pub fn step(
             integrate::integrate_pose(&mut bodies[index as usize], h, ctx.integrator);
         }
         integrate_seconds += clock.lap();
-        slots.gather(bodies);
+        slots.refresh_poses(bodies);
         for_each_contact(&mut slots.slots, constraints, colors, |bodies, c| {
             solve(bodies, c, h, None)
         });

@@ -72,10 +72,21 @@ impl SolverBodies {
         self.slot_of[index]
     }
 
-    /// Reads the awake bodies again (after they were integrated).
-    pub fn gather(&mut self, bodies: &[RigidBody]) {
+    /// Reads the momenta of the awake bodies again (after forces changed them).
+    pub fn refresh_momenta(&mut self, bodies: &[RigidBody]) {
         for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
-            *slot = gathered(&bodies[index as usize]);
+            let body = &bodies[index as usize];
+            slot.linear_momentum = body.linear_momentum;
+            slot.angular_momentum = body.angular_momentum;
+        }
+    }
+
+    /// Reads the poses of the awake bodies again (after they moved).
+    pub fn refresh_poses(&mut self, bodies: &[RigidBody]) {
+        for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
+            let body = &bodies[index as usize];
+            slot.position = body.position;
+            slot.orientation = body.orientation;
         }
     }
 

@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 
-use super::{Case, Config, add, grounded, material, run_for, worst_drift};
+use super::{Case, Config, add, drift_over_size, grounded, material};
 use crate::physics::{BodyDesc, Shape};
 
 const SECONDS: f64 = 10.0;
@@ -29,7 +29,5 @@ fn run(config: &Config) -> f64 {
             add(&mut world, block)
         })
         .collect();
-    let start: Vec<DVec3> = boxes.iter().map(|&b| world.body(b).position).collect();
-    run_for(&mut world, SECONDS, config.dt, |_| {});
-    worst_drift(&world, &boxes, &start) / (2.0 * HALF)
+    drift_over_size(&mut world, &boxes, config, SECONDS, 2.0 * HALF)
 }
