@@ -44,6 +44,17 @@ const RELATIVE_TOLERANCE: f64 = 1e-9;
 /// margins, EPA on the cores when the cores themselves overlap (then the margins add to the
 /// core depth, which keeps round shapes exact).
 pub fn signed_distance(a: &impl SupportMap, b: &impl SupportMap) -> SignedDistance {
+    if let Some(found) = point_against_surface(a, b) {
+        return found;
+    }
+    if let Some(found) = point_against_surface(b, a) {
+        return SignedDistance {
+            normal: -found.normal,
+            point_a: found.point_b,
+            point_b: found.point_a,
+            ..found
+        };
+    }
     let core = gjk_core_distance(a, b);
     if !core.overlap && core.distance > f64::MIN_POSITIVE {
         return from_separate_cores(a, b, &core);
@@ -67,6 +78,30 @@ pub fn penetration(a: &impl SupportMap, b: &impl SupportMap) -> Option<Penetrati
         point_a: signed.point_a,
         point_b: signed.point_b,
         iterations: signed.iterations,
+    })
+}
+
+/// A shape whose core is a point (a sphere, a surface point) against a sharp shape with a
+/// closed-form nearest surface point: exact, and no iteration.
+fn point_against_surface(
+    point: &impl SupportMap,
+    shape: &impl SupportMap,
+) -> Option<SignedDistance> {
+    let [p, q] = point.core_segment()?;
+    if p != q || shape.margin() != 0.0 {
+        return None;
+    }
+    let nearest = shape.nearest_surface(p)?;
+    // Positive outside, negative inside: the normal from the point to the shape is the
+    // surface's inward normal either way.
+    let core_distance = (p - nearest.point).dot(nearest.outward_normal);
+    let normal = -nearest.outward_normal;
+    Some(SignedDistance {
+        distance: core_distance - point.margin(),
+        normal,
+        point_a: p + normal * point.margin(),
+        point_b: nearest.point,
+        iterations: 0,
     })
 }
 

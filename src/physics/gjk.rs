@@ -10,6 +10,7 @@
 use glam::{DMat3, DVec3};
 
 use crate::physics::body::RigidBody;
+use crate::physics::nearest_surface::{NearestSurface, nearest_surface};
 use crate::physics::segment::separated_segments;
 use crate::physics::shape::Shape;
 
@@ -28,6 +29,12 @@ pub trait SupportMap {
     /// The core as a segment (both ends equal for a point), world coordinates, when it is
     /// one: GJK then measures the distance in closed form (`segment`) instead of iterating.
     fn core_segment(&self) -> Option<[DVec3; 2]> {
+        None
+    }
+
+    /// The surface point nearest to `point` in closed form, world coordinates, for the
+    /// shapes that have one (`nearest_surface`).
+    fn nearest_surface(&self, _point: DVec3) -> Option<NearestSurface> {
         None
     }
 
@@ -122,6 +129,16 @@ impl SupportMap for PosedShape<'_> {
             _ => None,
         }
     }
+
+    fn nearest_surface(&self, point: DVec3) -> Option<NearestSurface> {
+        let local = self.rotation.transpose() * (point - self.origin);
+        let nearest = nearest_surface(self.shape, local)?;
+        Some(NearestSurface {
+            point: self.to_world(nearest.point),
+            outward_normal: self.rotation * nearest.outward_normal,
+            inside: nearest.inside,
+        })
+    }
 }
 
 impl SupportMap for RigidBody {
@@ -139,6 +156,10 @@ impl SupportMap for RigidBody {
 
     fn core_segment(&self) -> Option<[DVec3; 2]> {
         PosedShape::of_body(self).core_segment()
+    }
+
+    fn nearest_surface(&self, point: DVec3) -> Option<NearestSurface> {
+        PosedShape::of_body(self).nearest_surface(point)
     }
 }
 

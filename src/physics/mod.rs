@@ -22,6 +22,7 @@ pub mod islands;
 pub mod manifold;
 pub mod mass;
 pub mod narrow_phase;
+pub mod nearest_surface;
 pub mod query;
 pub mod segment;
 pub mod shape;
