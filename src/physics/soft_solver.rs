@@ -18,7 +18,7 @@
 //! Material combination: restitution is the smaller of the two (as in the report), friction
 //! the geometric mean √(μa μb).
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -118,6 +118,7 @@ impl Side {
     }
 
     /// Speed of the body's material point at the contact along direction k (`d`).
+    #[inline]
     fn speed(&self, bodies: &SharedBodies, k: usize, d: DVec3) -> f64 {
         let body = bodies.get(self.slot);
         d.dot(body.linear_momentum) * body.inv_mass + body.angular_momentum.dot(self.spin[k])
@@ -128,7 +129,12 @@ impl Side {
             return self.anchor;
         }
         let body = bodies.get(self.slot);
-        body.position + body.orientation * self.anchor
+        self.placed(body.position, body.orientation)
+    }
+
+    /// The anchor of a moving body at this pose.
+    fn placed(&self, position: DVec3, orientation: DMat3) -> DVec3 {
+        position + orientation * self.anchor
     }
 }
 
@@ -142,6 +148,15 @@ struct PointConstraint {
     directions: [DVec3; 3],
     /// Separation = normal · (world anchor b − world anchor a) + separation_offset.
     separation_offset: f64,
+    /// The separation at the bodies' current poses. Poses only change between a substep's
+    /// biased pass and its relax pass, so the relax pass measures it and the next
+    /// substep's biased pass and the restitution pass read it.
+    separation: f64,
+    /// What a unit normal impulse adds to the relative speed along each tangent (zero for
+    /// point masses; the lever arms couple them). The friction solve after the normal
+    /// solve reads the tangent speeds through it instead of from the bodies again, so that
+    /// each contact reads and writes its two bodies once per pass.
+    normal_to_tangent: [f64; 2],
     normal_mass: f64,
     tangent_mass: [f64; 2],
     impulse: WarmImpulse,
@@ -169,12 +184,24 @@ impl PointConstraint {
     }
 
     /// Relative speed of b's material point over a's along direction k.
+    #[inline]
     fn speed(&self, bodies: &SharedBodies, k: usize) -> f64 {
         let d = self.directions[k];
         self.b.speed(bodies, k, d) - self.a.speed(bodies, k, d)
     }
 
+    /// The relative speeds along the normal and both tangents.
+    #[inline]
+    fn speeds(&self, bodies: &SharedBodies) -> [f64; 3] {
+        [
+            self.speed(bodies, 0),
+            self.speed(bodies, 1),
+            self.speed(bodies, 2),
+        ]
+    }
+
     /// Impulses λ along the three directions: +Σ λ d to b, −Σ λ d to a, at their arms.
+    #[inline]
     fn apply(&self, bodies: &SharedBodies, lambda: [f64; 3]) {
         self.push(bodies, |v| {
             v[0] * lambda[0] + v[1] * lambda[1] + v[2] * lambda[2]
@@ -186,13 +213,9 @@ impl PointConstraint {
         self.push(bodies, |v| v[0] * lambda);
     }
 
-    /// Friction impulses along the two tangents.
-    fn apply_tangent(&self, bodies: &SharedBodies, [l1, l2]: [f64; 2]) {
-        self.push(bodies, |v| v[1] * l1 + v[2] * l2);
-    }
-
     /// The impulse `along` the directions to b and its opposite to a; `along` combines the
     /// three directions, and the same way their arms for the angular impulses.
+    #[inline(always)]
     fn push(&self, bodies: &SharedBodies, along: impl Fn(&[DVec3; 3]) -> DVec3) {
         let linear = along(&self.directions);
         bodies.add(self.a.slot, -linear, -along(&self.a.arm));
@@ -326,6 +349,7 @@ pub fn step(
         integrate_seconds += clock.lap();
         slots.refresh_poses(bodies);
         for_each_contact(&mut slots.slots, constraints, colors, |bodies, c| {
+            c.separation = current_separation(bodies, c);
             solve(bodies, c, h, None)
         });
         slots.scatter(bodies);
@@ -381,16 +405,40 @@ fn prepare(
     let approach_speed = normal.dot(arms.relative_velocity(bodies));
     let approach_acceleration =
         normal.dot(environment_acceleration(b, forces) - environment_acceleration(a, forces));
+    let side_a = Side::new(a, slots.slot_of(contact.a), r_a, &directions);
+    let side_b = Side::new(b, slots.slot_of(contact.b), r_b, &directions);
+    let separation_offset = contact.separation - normal.dot(r_b - r_a + b.position - a.position);
+    let moves = |side: &Side| side.slot != FIXED_SLOT;
+    let anchor = |side: &Side, body: &RigidBody| {
+        if moves(side) {
+            side.placed(body.position, body.orientation)
+        } else {
+            side.anchor
+        }
+    };
+    let inv_mass = |side: &Side, body: &RigidBody| if moves(side) { body.inv_mass } else { 0.0 };
+    let inv_masses = inv_mass(&side_a, a) + inv_mass(&side_b, b);
+    // The report's denominator 1/mA + 1/mB + (rA × d)·IA⁻¹(rA × d) + (rB × d)·IB⁻¹(rB × d),
+    // from the arms and spins the sides already hold; a body that does not move in this
+    // step counts as immovable, as the impulses treat it.
+    let effective_mass = |k: usize| {
+        let inverse =
+            inv_masses + side_a.arm[k].dot(side_a.spin[k]) + side_b.arm[k].dot(side_b.spin[k]);
+        if inverse > 0.0 { 1.0 / inverse } else { 0.0 }
+    };
+    let normal_to_tangent = [1, 2].map(|k| {
+        let linear = inv_masses * directions[k].dot(normal);
+        linear + side_a.arm[0].dot(side_a.spin[k]) + side_b.arm[0].dot(side_b.spin[k])
+    });
     PointConstraint {
-        a: Side::new(a, slots.slot_of(contact.a), r_a, &directions),
-        b: Side::new(b, slots.slot_of(contact.b), r_b, &directions),
+        separation: normal.dot(anchor(&side_b, b) - anchor(&side_a, a)) + separation_offset,
+        normal_to_tangent,
+        a: side_a,
+        b: side_b,
         directions,
-        separation_offset: contact.separation - normal.dot(r_b - r_a + b.position - a.position),
-        normal_mass: arms.effective_mass(bodies, normal),
-        tangent_mass: [
-            arms.effective_mass(bodies, t1),
-            arms.effective_mass(bodies, t2),
-        ],
+        separation_offset,
+        normal_mass: effective_mass(0),
+        tangent_mass: [effective_mass(1), effective_mass(2)],
         impulse: contact.warm_impulse,
         max_normal_impulse: 0.0,
         approach_speed,
@@ -449,20 +497,30 @@ fn warm_start(bodies: &SharedBodies, c: &mut PointConstraint) {
     c.apply(bodies, [c.impulse.normal, t1, t2]);
 }
 
-/// One contact's share of a pass: normal (soft or rigid) then friction.
+/// One contact's share of a pass: normal (soft or rigid) then friction, applied together.
 /// `bias` is the softness and push-out cap when solving with position bias, None to relax.
 fn solve(bodies: &SharedBodies, c: &mut PointConstraint, h: f64, bias: Option<(Softness, f64)>) {
-    solve_normal(bodies, c, h, bias);
-    solve_friction(bodies, c);
+    let speeds = c.speeds(bodies);
+    let normal = solve_normal(c, speeds[0], h, bias);
+    // Skipped when no normal impulse is added: on an absurd contact (a body flung 1e298 m
+    // away) the coupling overflows, and 0 · ∞ would poison the friction of the other body.
+    let tangent_speeds = if normal == 0.0 {
+        [speeds[1], speeds[2]]
+    } else {
+        [1, 2].map(|k| speeds[k] + c.normal_to_tangent[k - 1] * normal)
+    };
+    let [t1, t2] = solve_friction(c, tangent_speeds);
+    c.apply(bodies, [normal, t1, t2]);
 }
 
+/// The normal impulse this pass adds, at the relative normal speed `normal_speed`.
 fn solve_normal(
-    bodies: &SharedBodies,
     c: &mut PointConstraint,
+    normal_speed: f64,
     h: f64,
     bias: Option<(Softness, f64)>,
-) {
-    let separation = current_separation(bodies, c);
+) -> f64 {
+    let separation = c.separation;
     let (velocity_bias, mass_scale, impulse_scale) = if separation > 0.0 {
         // Speculative: allow the gap to close within this substep, no further.
         (separation / h, 1.0, 0.0)
@@ -475,7 +533,6 @@ fn solve_normal(
     } else {
         (0.0, 1.0, 0.0)
     };
-    let normal_speed = c.speed(bodies, 0);
     let delta = -c.normal_mass * mass_scale * (normal_speed + velocity_bias)
         - impulse_scale * c.impulse.normal;
     let accumulated = (c.impulse.normal + delta).max(0.0);
@@ -492,15 +549,16 @@ fn solve_normal(
     }
     c.impulse.normal = accumulated;
     c.max_normal_impulse = c.max_normal_impulse.max(applied);
-    c.apply_normal(bodies, applied);
+    applied
 }
 
-/// Coulomb friction: the tangential impulse stays inside the disc of radius μ·λn.
-fn solve_friction(bodies: &SharedBodies, c: &mut PointConstraint) {
+/// Coulomb friction: the tangential impulse stays inside the disc of radius μ·λn. Returns
+/// the impulses this pass adds along the tangents.
+fn solve_friction(c: &mut PointConstraint, speeds: [f64; 2]) -> [f64; 2] {
     let limit = c.friction * c.impulse.normal;
     let unclamped = [
-        c.impulse.tangent[0] - c.tangent_mass[0] * c.speed(bodies, 1),
-        c.impulse.tangent[1] - c.tangent_mass[1] * c.speed(bodies, 2),
+        c.impulse.tangent[0] - c.tangent_mass[0] * speeds[0],
+        c.impulse.tangent[1] - c.tangent_mass[1] * speeds[1],
     ];
     let accumulated = clamp_to_friction_disc(unclamped, limit);
     let applied = [
@@ -508,7 +566,7 @@ fn solve_friction(bodies: &SharedBodies, c: &mut PointConstraint) {
         accumulated[1] - c.impulse.tangent[1],
     ];
     c.impulse.tangent = accumulated;
-    c.apply_tangent(bodies, applied);
+    applied
 }
 
 /// Newton's restitution on contacts that were approaching faster than the threshold: the
@@ -518,7 +576,7 @@ fn apply_restitution(bodies: &SharedBodies, c: &mut PointConstraint, threshold: 
     if c.restitution == 0.0 || c.approach_speed > -threshold || c.max_normal_impulse == 0.0 {
         return;
     }
-    let gap = current_separation(bodies, c).max(0.0);
+    let gap = c.separation.max(0.0);
     let normal_speed = c.speed(bodies, 0);
     let delta = -c.normal_mass * (normal_speed - rebound_speed(c, gap, h));
     let accumulated = (c.impulse.normal + delta).max(0.0);

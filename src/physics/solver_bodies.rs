@@ -136,6 +136,7 @@ impl<'a> SharedBodies<'a> {
         }
     }
 
+    #[inline]
     pub fn get(&self, slot: u32) -> &SolverBody {
         assert!((slot as usize) < self.len, "slot {slot} out of range");
         // SAFETY: in range; no other thread writes this slot (see the type's comment), and
@@ -144,6 +145,7 @@ impl<'a> SharedBodies<'a> {
     }
 
     /// Adds to a moving body's momenta; does nothing for `FIXED_SLOT`.
+    #[inline]
     pub fn add(&self, slot: u32, linear: DVec3, angular: DVec3) {
         if slot == FIXED_SLOT {
             return;
