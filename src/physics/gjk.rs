@@ -387,26 +387,28 @@ pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistan
         {
             break;
         }
-        let mut candidate = simplex;
-        candidate.push(w);
-        let (reduced, enclosed) = closest_on_simplex(&candidate);
+        // Pushed in place (a simplex is 4 support points, and copying it every iteration
+        // showed in profiles); popping it again restores the previous simplex exactly.
+        simplex.push(w);
+        let (reduced, enclosed) = closest_on_simplex(&simplex);
         if enclosed {
-            simplex = candidate;
             overlap = true;
             break;
         }
         // Slivers (near-duplicate points from curved surfaces) can defeat the region tests;
         // then every sub-simplex holding the new point is tried directly.
-        let mut new_v = reduced.closest(&candidate.points);
+        let mut new_v = reduced.closest(&simplex.points);
         let mut reduced = reduced;
         if new_v.length_squared() >= v_sq {
-            reduced = best_with_newest(&candidate);
-            new_v = reduced.closest(&candidate.points);
+            reduced = best_with_newest(&simplex);
+            new_v = reduced.closest(&simplex.points);
         }
         if new_v.length_squared() >= v_sq {
-            break; // no progress: round-off has taken over, keep the previous simplex
+            // No progress: round-off has taken over, keep the previous simplex.
+            simplex.len -= 1;
+            break;
         }
-        simplex = reduced.to_simplex(&candidate.points);
+        simplex = reduced.to_simplex(&simplex.points);
         v = new_v;
     }
     let (_, point_a, point_b) = simplex.combine();

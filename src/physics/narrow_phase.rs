@@ -70,6 +70,13 @@ const PAIRS_PER_TASK: usize = 64;
 /// pair order. Pairs are independent, so they are computed on all threads; the collected
 /// order, and so every later stage, is the same for any number of threads.
 pub fn find_manifolds(bodies: &[RigidBody], pairs: &[BodyPair], dt: f64) -> Vec<ContactManifold> {
+    if rayon::current_num_threads() == 1 {
+        // Handing the work to a pool of one thread only adds its wake-ups.
+        let manifolds = pairs
+            .iter()
+            .filter_map(|pair| manifold_of_pair(bodies, pair, dt));
+        return manifolds.collect();
+    }
     pairs
         .par_iter()
         .with_min_len(PAIRS_PER_TASK)

@@ -464,9 +464,10 @@ fn for_each_contact<F>(
     F: Fn(&SharedBodies, &mut PointConstraint) + Sync,
 {
     let shared = SharedBodies::new(bodies);
+    let threads = rayon::current_num_threads();
     for (range, parallel) in colors.ranges() {
         let color = &mut constraints[range];
-        if parallel && color.len() >= PARALLEL_MIN_CONTACTS {
+        if parallel && threads > 1 && color.len() >= PARALLEL_MIN_CONTACTS {
             color
                 .par_chunk_by_mut(PointConstraint::same_bodies)
                 .for_each(|manifold| manifold.iter_mut().for_each(|c| task(&shared, c)));
