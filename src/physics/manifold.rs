@@ -410,12 +410,12 @@ fn best_edge_axis(a: &Polyhedron, b: &Polyhedron) -> Option<Axis> {
         return best_box_edge_axis(a, frame_a.axes, b, frame_b.axes);
     }
     let mut best: Option<Axis> = None;
-    for (i, _) in a.edges.iter().enumerate() {
+    for i in 0..a.edges.len() {
         let Some([fa0, fa1]) = a.edge_faces[i] else {
             continue;
         };
         let (na, nb) = (a.faces[fa0].normal, a.faces[fa1].normal);
-        for (j, _) in b.edges.iter().enumerate() {
+        for j in 0..b.edges.len() {
             let Some([fb0, fb1]) = b.edge_faces[j] else {
                 continue;
             };

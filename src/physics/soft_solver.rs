@@ -97,7 +97,7 @@ struct Side {
 
 impl Side {
     fn new(body: &RigidBody, slot: u32, lever: DVec3, directions: &[DVec3; 3]) -> Side {
-        let moves = slot != FIXED_SLOT;
+        let moves = moves(slot);
         let arm = directions.map(|d| lever.cross(d));
         Side {
             slot,
@@ -125,17 +125,31 @@ impl Side {
     }
 
     fn anchor_in_world(&self, bodies: &SharedBodies) -> DVec3 {
-        if self.slot == FIXED_SLOT {
-            return self.anchor;
+        if !moves(self.slot) {
+            return self.anchor; // without reading the slot: this runs every pass
         }
         let body = bodies.get(self.slot);
-        self.placed(body.position, body.orientation)
+        self.anchor_at(body.position, body.orientation)
     }
 
-    /// The anchor of a moving body at this pose.
-    fn placed(&self, position: DVec3, orientation: DMat3) -> DVec3 {
-        position + orientation * self.anchor
+    /// The anchor in world coordinates with the body at this pose; the anchor of a body
+    /// that does not move is a world point already.
+    fn anchor_at(&self, position: DVec3, orientation: DMat3) -> DVec3 {
+        if moves(self.slot) {
+            position + orientation * self.anchor
+        } else {
+            self.anchor
+        }
     }
+
+    /// The body's inverse mass as the impulses see it: zero when it does not move.
+    fn inv_mass(&self, body: &RigidBody) -> f64 {
+        if moves(self.slot) { body.inv_mass } else { 0.0 }
+    }
+}
+
+fn moves(slot: u32) -> bool {
+    slot != FIXED_SLOT
 }
 
 /// One prepared contact point. Its directions are the normal (from a to b), then the two
@@ -408,37 +422,21 @@ fn prepare(
     let side_a = Side::new(a, slots.slot_of(contact.a), r_a, &directions);
     let side_b = Side::new(b, slots.slot_of(contact.b), r_b, &directions);
     let separation_offset = contact.separation - normal.dot(r_b - r_a + b.position - a.position);
-    let moves = |side: &Side| side.slot != FIXED_SLOT;
-    let anchor = |side: &Side, body: &RigidBody| {
-        if moves(side) {
-            side.placed(body.position, body.orientation)
-        } else {
-            side.anchor
-        }
-    };
-    let inv_mass = |side: &Side, body: &RigidBody| if moves(side) { body.inv_mass } else { 0.0 };
-    let inv_masses = inv_mass(&side_a, a) + inv_mass(&side_b, b);
-    // The report's denominator 1/mA + 1/mB + (rA × d)·IA⁻¹(rA × d) + (rB × d)·IB⁻¹(rB × d),
-    // from the arms and spins the sides already hold; a body that does not move in this
-    // step counts as immovable, as the impulses treat it.
-    let effective_mass = |k: usize| {
-        let inverse =
-            inv_masses + side_a.arm[k].dot(side_a.spin[k]) + side_b.arm[k].dot(side_b.spin[k]);
-        if inverse > 0.0 { 1.0 / inverse } else { 0.0 }
-    };
-    let normal_to_tangent = [1, 2].map(|k| {
-        let linear = inv_masses * directions[k].dot(normal);
-        linear + side_a.arm[0].dot(side_a.spin[k]) + side_b.arm[0].dot(side_b.spin[k])
-    });
+    let (anchor_a, anchor_b) = (
+        side_a.anchor_at(a.position, a.orientation),
+        side_b.anchor_at(b.position, b.orientation),
+    );
+    let inv_masses = side_a.inv_mass(a) + side_b.inv_mass(b);
+    let [normal_mass, tangent_1, tangent_2] = effective_masses(&side_a, &side_b, inv_masses);
     PointConstraint {
-        separation: normal.dot(anchor(&side_b, b) - anchor(&side_a, a)) + separation_offset,
-        normal_to_tangent,
+        separation: separation(normal, separation_offset, anchor_a, anchor_b),
+        normal_to_tangent: normal_to_tangent(&side_a, &side_b, inv_masses, &directions),
         a: side_a,
         b: side_b,
         directions,
         separation_offset,
-        normal_mass: effective_mass(0),
-        tangent_mass: [effective_mass(1), effective_mass(2)],
+        normal_mass,
+        tangent_mass: [tangent_1, tangent_2],
         impulse: contact.warm_impulse,
         max_normal_impulse: 0.0,
         approach_speed,
@@ -447,6 +445,27 @@ fn prepare(
         friction: (a.material.friction * b.material.friction).sqrt(),
         restitution: a.material.restitution.min(b.material.restitution),
     }
+}
+
+/// The mass an impulse along each direction meets: the inverse of the report's denominator
+/// 1/mA + 1/mB + (rA × d)·IA⁻¹(rA × d) + (rB × d)·IB⁻¹(rB × d), from the arms and spins the
+/// sides hold (`inv_masses` is 1/mA + 1/mB). A body that does not move in this step counts
+/// as immovable, as the impulses treat it.
+fn effective_masses(a: &Side, b: &Side, inv_masses: f64) -> [f64; 3] {
+    let mass = |k: usize| {
+        let inverse = inv_masses + a.arm[k].dot(a.spin[k]) + b.arm[k].dot(b.spin[k]);
+        if inverse > 0.0 { 1.0 / inverse } else { 0.0 }
+    };
+    [mass(0), mass(1), mass(2)]
+}
+
+/// `PointConstraint::normal_to_tangent`: the relative speed along each tangent that a unit
+/// normal impulse adds.
+fn normal_to_tangent(a: &Side, b: &Side, inv_masses: f64, directions: &[DVec3; 3]) -> [f64; 2] {
+    [1, 2].map(|k| {
+        let linear = inv_masses * directions[k].dot(directions[0]);
+        linear + a.arm[0].dot(a.spin[k]) + b.arm[0].dot(b.spin[k])
+    })
 }
 
 /// Contacts in a colour that make it worth spreading over the threads.
@@ -490,7 +509,12 @@ fn fastest_approach(speed: f64, acceleration: f64, contact: &ContactInput, dt: f
 /// Current separation: the anchors carried along by the bodies' motion in this step.
 fn current_separation(bodies: &SharedBodies, c: &PointConstraint) -> f64 {
     let (anchor_a, anchor_b) = (c.a.anchor_in_world(bodies), c.b.anchor_in_world(bodies));
-    c.normal().dot(anchor_b - anchor_a) + c.separation_offset
+    separation(c.normal(), c.separation_offset, anchor_a, anchor_b)
+}
+
+/// The separation of a contact whose anchors are at these world points.
+fn separation(normal: DVec3, offset: f64, anchor_a: DVec3, anchor_b: DVec3) -> f64 {
+    normal.dot(anchor_b - anchor_a) + offset
 }
 
 fn warm_start(bodies: &SharedBodies, c: &mut PointConstraint) {
