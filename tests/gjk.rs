@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use glam::{DMat3, DQuat, DVec3};
 use proptest::prelude::*;
-use rigid::physics::epa::signed_distance;
+use rigid::physics::epa::{signed_distance, signed_distance_within};
 use rigid::physics::gjk::{GJK_MAX_ITERATIONS, SupportMap};
 use rigid::physics::{ConvexHull, PosedShape, Shape, gjk_distance, gjk_intersects, penetration};
 
@@ -451,6 +451,26 @@ proptest! {
         if ab.distance > 1e-6 * scale {
             prop_assert!(ab.point_a.distance(ba.point_b) <= 1e-6 * scale);
             prop_assert!(ab.normal.dot(ba.normal) < -0.999_999);
+        }
+    }
+
+    /// The early exit may only drop pairs that are truly beyond the limit, and must not
+    /// change the answer for the others.
+    #[test]
+    fn distance_within_a_limit_is_the_full_answer_or_none(
+        sa in spec(),
+        sb in spec(),
+        pa in pose(),
+        pb in pose(),
+        limit_fraction in -0.5..1.5f64,
+    ) {
+        let (shape_a, shape_b) = (sa.shape(), sb.shape());
+        let (a, b) = (posed(&shape_a, pa), posed(&shape_b, pb));
+        let full = signed_distance(&a, &b);
+        let limit = limit_fraction * full.distance.abs();
+        match signed_distance_within(&a, &b, limit) {
+            Some(within) => prop_assert_eq!(within, full),
+            None => prop_assert!(full.distance > limit, "{} ≤ {limit}", full.distance),
         }
     }
 

@@ -8,7 +8,9 @@
 
 use glam::DVec3;
 
-use crate::physics::gjk::{CoreDistance, Simplex, SupportMap, SupportPoint, gjk_core_distance};
+use crate::physics::gjk::{
+    CoreDistance, Simplex, SupportMap, SupportPoint, gjk_core_distance_within,
+};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Penetration {
@@ -44,29 +46,43 @@ const RELATIVE_TOLERANCE: f64 = 1e-9;
 /// margins, EPA on the cores when the cores themselves overlap (then the margins add to the
 /// core depth, which keeps round shapes exact).
 pub fn signed_distance(a: &impl SupportMap, b: &impl SupportMap) -> SignedDistance {
+    signed_distance_within(a, b, f64::INFINITY).expect("no distance is beyond an infinite limit")
+}
+
+/// The signed distance when it is at most `limit`, else None (found without converging on
+/// the distance of shapes that are farther apart: see `gjk_core_distance_within`).
+pub fn signed_distance_within(
+    a: &impl SupportMap,
+    b: &impl SupportMap,
+    limit: f64,
+) -> Option<SignedDistance> {
     if let Some(found) = point_against_surface(a, b) {
-        return found;
+        return (found.distance <= limit).then_some(found);
     }
     if let Some(found) = point_against_surface(b, a) {
-        return SignedDistance {
+        return (found.distance <= limit).then_some(SignedDistance {
             normal: -found.normal,
             point_a: found.point_b,
             point_b: found.point_a,
             ..found
-        };
+        });
     }
-    let core = gjk_core_distance(a, b);
+    let margins = a.margin() + b.margin();
+    let core = gjk_core_distance_within(a, b, limit + margins)?;
     if !core.overlap && core.distance > f64::MIN_POSITIVE {
-        return from_separate_cores(a, b, &core);
+        let found = from_separate_cores(a, b, &core);
+        return (found.distance <= limit).then_some(found);
     }
     let p = epa(a, b, &core.simplex);
-    SignedDistance {
+    let found = SignedDistance {
         distance: -(p.depth + a.margin() + b.margin()),
         normal: p.normal,
         point_a: p.point_a + p.normal * a.margin(),
         point_b: p.point_b - p.normal * b.margin(),
         iterations: core.iterations + p.iterations,
-    }
+    };
+    // Also drops a distance that round-off made NaN.
+    (found.distance <= limit).then_some(found)
 }
 
 /// None when the shapes are apart; the penetration (possibly 0 when touching) otherwise.

@@ -350,10 +350,25 @@ pub fn gjk_intersects(a: &impl SupportMap, b: &impl SupportMap) -> bool {
 
 /// GJK on the cores of the shapes.
 pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistance {
+    gjk_core_distance_within(a, b, f64::INFINITY).expect("no distance is beyond an infinite limit")
+}
+
+/// GJK on the cores, or None as soon as the cores are known to be farther apart than
+/// `limit`. Contact generation only wants pairs within its margin, and most pairs the broad
+/// phase reports are well beyond it: a support plane proves that after a few iterations,
+/// where converging on the distance of two curved shapes takes tens.
+pub fn gjk_core_distance_within(
+    a: &impl SupportMap,
+    b: &impl SupportMap,
+    limit: f64,
+) -> Option<CoreDistance> {
     if let (Some(core_a), Some(core_b)) = (a.core_segment(), b.core_segment())
         && let Some((point_a, point_b, distance)) = separated_segments(core_a, core_b)
     {
-        return CoreDistance {
+        if distance > limit {
+            return None;
+        }
+        return Some(CoreDistance {
             distance,
             point_a,
             point_b,
@@ -365,7 +380,7 @@ pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistan
                 b: point_b,
             }),
             iterations: 0,
-        };
+        });
     }
     let first_direction = (b.inner_point() - a.inner_point()).normalize_or(DVec3::X);
     let mut simplex = Simplex::single(SupportPoint::of_cores(a, b, -first_direction));
@@ -381,6 +396,10 @@ pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistan
             break;
         }
         let w = SupportPoint::of_cores(a, b, -v);
+        // Every point m of the difference has m·v ≥ w·v, so |m| ≥ w·v / |v|.
+        if v.dot(w.w) > limit * v_sq.sqrt() {
+            return None;
+        }
         let gap = v_sq - v.dot(w.w);
         let floor = ROUND_OFF * scale_sq.max(w.w.length_squared());
         if gap <= RELATIVE_TOLERANCE * v_sq + floor || simplex.contains_w(w.w, DUPLICATE * scale_sq)
@@ -412,7 +431,7 @@ pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistan
         v = new_v;
     }
     let (_, point_a, point_b) = simplex.combine();
-    CoreDistance {
+    Some(CoreDistance {
         distance: if overlap { 0.0 } else { v.length() },
         point_a,
         point_b,
@@ -422,7 +441,7 @@ pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistan
         overlap,
         simplex,
         iterations,
-    }
+    })
 }
 
 fn simplex_scale_sq(simplex: &Simplex) -> f64 {

@@ -23,7 +23,7 @@ use crate::physics::body::{BodyId, RigidBody};
 use crate::physics::contact::{
     Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS,
 };
-use crate::physics::epa::signed_distance;
+use crate::physics::epa::signed_distance_within;
 use crate::physics::gjk::{PosedShape, SupportMap};
 use crate::physics::segment::closest_points_of_segments;
 use crate::physics::shape::Shape;
@@ -747,8 +747,8 @@ fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
 
 /// The closest pair of points (GJK, or EPA when the cores overlap) as one contact.
 fn closest_contact(a: &PosedShape, b: &PosedShape, margin: f64) -> Option<Contact> {
-    let signed = signed_distance(a, b);
-    (signed.distance <= margin).then(|| Contact {
+    let signed = signed_distance_within(a, b, margin)?;
+    Some(Contact {
         position: 0.5 * (signed.point_a + signed.point_b),
         normal: signed.normal,
         separation: signed.distance,
@@ -834,8 +834,8 @@ fn point_contact(
     index: u32,
     point_is_a: bool,
 ) -> Option<Contact> {
-    let signed = signed_distance(point, other);
-    if signed.distance > margin || signed.normal.dot(normal) < 1.0 - FLAT_COSINE {
+    let signed = signed_distance_within(point, other, margin)?;
+    if signed.normal.dot(normal) < 1.0 - FLAT_COSINE {
         return None;
     }
     let (normal, on_a, on_b) = if point_is_a {
