@@ -7,6 +7,7 @@
 //! the opposite) brings the shapes to touching.
 
 use glam::DVec3;
+use smallvec::{SmallVec, smallvec};
 
 use crate::physics::gjk::{
     CoreDistance, Simplex, SupportMap, SupportPoint, gjk_core_distance_within,
@@ -139,19 +140,31 @@ fn from_separate_cores(
 #[derive(Clone, Copy, Debug)]
 struct Face {
     vertices: [usize; 3],
+    /// The face across edge k, which runs from `vertices[k]` to `vertices[(k + 1) % 3]`.
+    adjacent: [usize; 3],
     normal: DVec3,
     /// normal · (any vertex): distance of the face plane from the origin.
     distance: f64,
     alive: bool,
 }
 
+/// Removed faces stay in the list (marked dead) so that indices stay valid; live faces keep
+/// the order they were added in.
 struct Polytope {
     points: Vec<SupportPoint>,
     faces: Vec<Face>,
 }
 
+/// A removed face's edge on the rim of the removed region, with the live face beyond it.
+struct RimEdge {
+    from: usize,
+    to: usize,
+    outside: usize,
+}
+
 impl Polytope {
     /// Faces are wound counter-clockwise seen from outside, so a face's normal points out.
+    /// Its adjacency is set by the caller.
     fn add_face(&mut self, vertices: [usize; 3]) {
         let [p, q, r] = vertices.map(|i| self.points[i].w);
         let cross = (q - p).cross(r - p);
@@ -166,6 +179,7 @@ impl Polytope {
         };
         self.faces.push(Face {
             vertices,
+            adjacent: [usize::MAX; 3],
             normal,
             distance,
             alive: true,
@@ -188,35 +202,83 @@ impl Polytope {
     fn expand(&mut self, seed: usize, point: SupportPoint) {
         let new_index = self.points.len();
         self.points.push(point);
-        let mut rim: Vec<[usize; 2]> = Vec::new();
-        let mut stack = vec![seed];
+        let mut rim: SmallVec<[RimEdge; 16]> = SmallVec::new();
+        let mut stack: SmallVec<[usize; 16]> = smallvec![seed];
         self.faces[seed].alive = false;
         while let Some(current) = stack.pop() {
-            let [i, j, k] = self.faces[current].vertices;
-            for edge in [[i, j], [j, k], [k, i]] {
-                match self.neighbour_across(edge) {
-                    Some(next) if self.faces[next].sees(point.w) => {
-                        self.faces[next].alive = false;
-                        stack.push(next);
-                    }
+            let Face {
+                vertices, adjacent, ..
+            } = self.faces[current];
+            for k in 0..3 {
+                let next = adjacent[k];
+                if self.faces.get(next).is_none_or(|f| !f.alive) {
                     // Already removed: the edge is inside the region.
-                    None => {}
-                    Some(_) => rim.push(edge),
+                    continue;
+                }
+                if self.faces[next].sees(point.w) {
+                    self.faces[next].alive = false;
+                    stack.push(next);
+                } else {
+                    let (from, to) = (vertices[k], vertices[(k + 1) % 3]);
+                    rim.push(RimEdge {
+                        from,
+                        to,
+                        outside: next,
+                    });
                 }
             }
         }
-        for edge in rim {
-            self.add_face([edge[0], edge[1], new_index]);
+        let first_new = self.faces.len();
+        for edge in &rim {
+            self.add_face([edge.from, edge.to, new_index]);
         }
-        self.faces.retain(|f| f.alive);
+        // Round-off can pinch the removed region at a vertex; its rim then passes that
+        // vertex twice and the fan's neighbours are not simply the next and previous edge.
+        let simple_loop = rim
+            .iter()
+            .enumerate()
+            .all(|(i, e)| rim[..i].iter().all(|earlier| earlier.from != e.from));
+        if !simple_loop {
+            self.link_by_search();
+            return;
+        }
+        for (i, edge) in rim.iter().enumerate() {
+            let face = first_new + i;
+            let outside = &mut self.faces[edge.outside];
+            if let Some(k) = (0..3).find(|&k| outside.vertices[k] == edge.to) {
+                outside.adjacent[k] = face;
+            }
+            // Along the edges to the new point, the face on from → to meets the fan's face
+            // whose rim edge starts at `to`, and the one whose rim edge ends at `from`.
+            let starting_at_to = rim.iter().position(|e| e.from == edge.to);
+            let ending_at_from = rim.iter().position(|e| e.to == edge.from);
+            self.faces[face].adjacent = [
+                edge.outside,
+                starting_at_to.map_or(usize::MAX, |j| first_new + j),
+                ending_at_from.map_or(usize::MAX, |j| first_new + j),
+            ];
+        }
     }
 
-    /// The live face on the other side of a directed edge.
-    fn neighbour_across(&self, [i, j]: [usize; 2]) -> Option<usize> {
-        self.faces.iter().position(|f| {
-            let [p, q, r] = f.vertices;
-            f.alive && ([p, q] == [j, i] || [q, r] == [j, i] || [r, p] == [j, i])
-        })
+    /// Sets the adjacency of every live face to the first live face holding the reversed
+    /// edge (none: `usize::MAX`). Used on the starting tetrahedron, and after a pinched
+    /// expansion, where matching edges is the only reliable way.
+    fn link_by_search(&mut self) {
+        for f in 0..self.faces.len() {
+            if !self.faces[f].alive {
+                continue;
+            }
+            for k in 0..3 {
+                let v = self.faces[f].vertices;
+                let (from, to) = (v[k], v[(k + 1) % 3]);
+                let across = self.faces.iter().position(|g| {
+                    let [p, q, r] = g.vertices;
+                    g.alive
+                        && ([p, q] == [to, from] || [q, r] == [to, from] || [r, p] == [to, from])
+                });
+                self.faces[f].adjacent[k] = across.unwrap_or(usize::MAX);
+            }
+        }
     }
 }
 
@@ -322,6 +384,7 @@ fn initial_polytope(
     for face in [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
         polytope.add_face(face);
     }
+    polytope.link_by_search();
     Ok(polytope)
 }
 
