@@ -9,7 +9,6 @@
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
-use smallvec::SmallVec;
 
 use crate::physics::body::BodyId;
 
@@ -69,12 +68,8 @@ pub struct ContactManifold {
     pub body_b: BodyId,
     pub normal: DVec3,
     /// At most `MAX_MANIFOLD_POINTS`, deepest first.
-    pub contacts: ContactPoints,
+    pub contacts: Vec<Contact>,
 }
-
-/// The contact points of one pair, inline: the narrow phase makes one list per pair and
-/// step, and allocating each showed in profiles.
-pub type ContactPoints = SmallVec<[Contact; MAX_MANIFOLD_POINTS]>;
 
 /// Four well-spread points hold a box face still; more add cost without stability.
 pub const MAX_MANIFOLD_POINTS: usize = 4;

@@ -17,11 +17,11 @@ use std::borrow::Cow;
 use std::sync::LazyLock;
 
 use glam::DVec3;
-use smallvec::{SmallVec, smallvec};
+use smallvec::SmallVec;
 
 use crate::physics::body::{BodyId, RigidBody};
 use crate::physics::contact::{
-    Contact, ContactKind, ContactManifold, ContactPoints, FeatureId, MAX_MANIFOLD_POINTS,
+    Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS,
 };
 use crate::physics::epa::signed_distance_within;
 use crate::physics::gjk::{PosedShape, SupportMap};
@@ -49,7 +49,7 @@ pub fn contact_manifold(
 
 /// The contacts of two placed shapes (deepest first, at most `MAX_MANIFOLD_POINTS`).
 /// Compounds are split into their parts; their contacts may then carry different normals.
-pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> ContactPoints {
+pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
     let mut contacts = if let Some(parts) = a.compound_parts() {
         part_contacts(&parts, b, margin, true)
     } else if let Some(parts) = b.compound_parts() {
@@ -67,8 +67,8 @@ fn part_contacts(
     other: &PosedShape,
     margin: f64,
     parts_are_a: bool,
-) -> ContactPoints {
-    let mut contacts = ContactPoints::new();
+) -> Vec<Contact> {
+    let mut contacts = Vec::new();
     for (k, part) in parts.iter().enumerate() {
         let tag = ((k as u32 + 1) & 0xff) << 20;
         let found = if parts_are_a {
@@ -88,7 +88,7 @@ fn part_contacts(
     contacts
 }
 
-fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> ContactPoints {
+fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
     let polyhedral =
         |posed: &PosedShape| matches!(posed.shape, Shape::Cuboid { .. } | Shape::ConvexHull(_));
     // Both are checked before either is built: a box against a cylinder builds nothing.
@@ -311,15 +311,15 @@ impl Axis {
 /// choice does not flicker between nearly equal axes from one step to the next.
 const AXIS_PREFERENCE: f64 = 1e-3;
 
-fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64) -> ContactPoints {
+fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64) -> Vec<Contact> {
     let slop = AXIS_PREFERENCE * a.size().min(b.size());
     let face_a = best_face_axis(a, b, true);
     if face_a.separation() > margin {
-        return ContactPoints::new();
+        return Vec::new();
     }
     let face_b = best_face_axis(b, a, false);
     if face_b.separation() > margin {
-        return ContactPoints::new();
+        return Vec::new();
     }
     let mut best = if face_b.separation() > face_a.separation() + slop {
         face_b
@@ -328,7 +328,7 @@ fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64) -> ContactPo
     };
     if let Some(edges) = best_edge_axis(a, b) {
         if edges.separation() > margin {
-            return ContactPoints::new();
+            return Vec::new();
         }
         if edges.separation() > best.separation() + slop {
             best = edges;
@@ -347,7 +347,7 @@ fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64) -> ContactPo
             axis,
             separation,
         } => {
-            smallvec![edge_contact(a, edge_a, b, edge_b, axis, separation)]
+            vec![edge_contact(a, edge_a, b, edge_b, axis, separation)]
         }
     }
 }
@@ -577,7 +577,7 @@ fn clip_contacts(
     incident: &Polyhedron,
     reference_is_a: bool,
     margin: f64,
-) -> ContactPoints {
+) -> Vec<Contact> {
     let ref_face = &reference.faces[face];
     let normal = ref_face.normal;
     let incident_face = incident
@@ -664,7 +664,7 @@ fn clip_polygon(polygon: &[ClipPoint], plane: DVec3, offset: f64, side_tag: u32)
 
 /// Keeps at most 4 points spanning the largest area: the deepest, the farthest from it,
 /// then the two that make the largest triangles with those on either side.
-fn reduce_by_area(contacts: ContactPoints) -> ContactPoints {
+fn reduce_by_area(contacts: Vec<Contact>) -> Vec<Contact> {
     if contacts.len() <= MAX_MANIFOLD_POINTS {
         return contacts;
     }
@@ -684,15 +684,10 @@ fn reduce_by_area(contacts: ContactPoints) -> ContactPoints {
     };
     let third = by_area(|area| area);
     let fourth = by_area(|area| -area);
-    let mut keep = [first, second, third, fourth];
+    let mut keep = vec![first, second, third, fourth];
     keep.sort_unstable();
-    let mut kept = ContactPoints::new();
-    for (i, &k) in keep.iter().enumerate() {
-        if i == 0 || keep[i - 1] != k {
-            kept.push(contacts[k]);
-        }
-    }
-    kept
+    keep.dedup();
+    keep.into_iter().map(|k| contacts[k]).collect()
 }
 
 fn farthest_from(contacts: &[Contact], point: DVec3) -> usize {
@@ -711,11 +706,11 @@ fn farthest_from(contacts: &[Contact], point: DVec3) -> usize {
 /// cylinder side) or standing on it (cylinder cap), extra points are tested.
 const FLAT_COSINE: f64 = 0.1;
 
-fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> ContactPoints {
+fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
     let Some(main) = closest_contact(a, b, margin) else {
-        return ContactPoints::new();
+        return Vec::new();
     };
-    let mut extra = ContactPoints::new();
+    let mut extra = Vec::new();
     for (k, point) in extra_points(a, main.normal).into_iter().enumerate() {
         extra.extend(point_contact(
             &point,
@@ -787,7 +782,7 @@ impl SupportMap for SurfacePoint {
 /// Points of a capsule or cylinder that may touch along with the closest one: the two ends
 /// of a lying capsule's segment, the two ends of a lying cylinder's contact line, or four
 /// rim points of a standing cylinder's cap. `normal` points away from the shape.
-fn extra_points(posed: &PosedShape, normal: DVec3) -> SmallVec<[SurfacePoint; 4]> {
+fn extra_points(posed: &PosedShape, normal: DVec3) -> Vec<SurfacePoint> {
     let axis = posed.rotation * DVec3::Y;
     let along = axis.dot(normal);
     match *posed.shape {
@@ -799,8 +794,7 @@ fn extra_points(posed: &PosedShape, normal: DVec3) -> SmallVec<[SurfacePoint; 4]
                 center: posed.to_world(DVec3::Y * (s * half_height)),
                 radius,
             })
-            .into_iter()
-            .collect(),
+            .into(),
         Shape::Cylinder {
             half_height,
             radius,
@@ -811,8 +805,7 @@ fn extra_points(posed: &PosedShape, normal: DVec3) -> SmallVec<[SurfacePoint; 4]
                     center: posed.to_world(DVec3::ZERO) + axis * (s * half_height) + radial,
                     radius: 0.0,
                 })
-                .into_iter()
-                .collect()
+                .into()
         }
         Shape::Cylinder {
             half_height,
@@ -827,7 +820,7 @@ fn extra_points(posed: &PosedShape, normal: DVec3) -> SmallVec<[SurfacePoint; 4]
                 })
                 .into()
         }
-        _ => SmallVec::new(),
+        _ => Vec::new(),
     }
 }
 
