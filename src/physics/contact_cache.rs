@@ -53,9 +53,19 @@ impl ContactCache {
                 .map(move |c| (m.body_a, m.body_b, c.feature))
         });
         self.entries.extend(keys.zip(impulses));
-        // Unstable: sorts in place (a stable sort allocates). Equal keys are rare (a feature
-        // pair found twice) and which one is kept is the same on every run.
-        self.entries.sort_unstable_by_key(|entry| entry.0);
+        // The manifolds come in pair order, so sorting each one's few points (insertion
+        // sort: stable, in place) sorts the whole list; a caller that hands them in another
+        // order gets the full sort.
+        let mut rest = &mut self.entries[..];
+        for manifold in manifolds {
+            let (points, after) = rest.split_at_mut(manifold.contacts.len().min(rest.len()));
+            insertion_sort(points);
+            rest = after;
+        }
+        if !self.entries.is_sorted_by_key(|entry| entry.0) {
+            self.entries.sort_by_key(|entry| entry.0);
+        }
+        // Equal keys are rare (a feature pair found twice); the first is kept.
         self.entries.dedup_by(|x, y| x.0 == y.0);
     }
 
@@ -69,5 +79,66 @@ impl ContactCache {
 
     pub fn clear(&mut self) {
         self.entries.clear();
+    }
+}
+
+fn insertion_sort(entries: &mut [(Key, WarmImpulse)]) {
+    for i in 1..entries.len() {
+        let mut j = i;
+        while j > 0 && entries[j - 1].0 > entries[j].0 {
+            entries.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::physics::contact::{Contact, ContactKind};
+
+    fn manifold(a: u32, b: u32, features: &[u32]) -> ContactManifold {
+        let contacts = features
+            .iter()
+            .map(|&f| Contact {
+                position: DVec3::ZERO,
+                normal: DVec3::Y,
+                separation: 0.0,
+                kind: ContactKind::VertexFace,
+                feature: FeatureId { on_a: f, on_b: 0 },
+                time_of_impact: 0.0,
+            })
+            .collect();
+        ContactManifold {
+            body_a: BodyId(a),
+            body_b: BodyId(b),
+            normal: DVec3::Y,
+            contacts,
+        }
+    }
+
+    /// Every stored impulse is found again by binary search, whether the manifolds come in
+    /// pair order (each one's points unsorted) or not.
+    #[test]
+    fn stored_impulses_are_found_again_in_any_manifold_order() {
+        for manifolds in [
+            vec![manifold(0, 1, &[7, 3, 5]), manifold(0, 2, &[2, 1])],
+            vec![manifold(1, 2, &[4, 9]), manifold(0, 1, &[8, 6, 1])],
+        ] {
+            let count = manifolds.iter().map(|m| m.contacts.len()).sum::<usize>();
+            let impulse = |k: usize| WarmImpulse {
+                normal: k as f64 + 1.0,
+                tangent: [0.0; 2],
+            };
+            let mut cache = ContactCache::default();
+            cache.store(&manifolds, (0..count).map(impulse));
+            let mut inputs = Vec::new();
+            cache.solver_inputs(&manifolds, &mut inputs);
+            let found: Vec<f64> = inputs.iter().map(|i| i.warm_impulse.normal).collect();
+            let expected: Vec<f64> = (0..count).map(|k| impulse(k).normal).collect();
+            assert_eq!(found, expected);
+        }
     }
 }
