@@ -427,7 +427,7 @@ pub fn gjk_core_distance_within(
             simplex.len -= 1;
             break;
         }
-        simplex = reduced.to_simplex(&simplex.points);
+        reduced.reduce(&mut simplex);
         v = new_v;
     }
     let (_, point_a, point_b) = simplex.combine();
@@ -488,12 +488,16 @@ impl Sub {
         sum
     }
 
-    fn to_simplex(self, points: &[SupportPoint; 4]) -> Simplex {
-        Simplex {
-            points: self.vertices.map(|i| points[i]),
-            weights: self.weights,
-            len: self.len,
+    /// Keeps only this sub-simplex's points, in place. Its vertex indices ascend (every
+    /// reduction below lists them in order), so moving them forward never overwrites one
+    /// still to be moved; the slots past `len` are never read.
+    fn reduce(self, simplex: &mut Simplex) {
+        for k in 0..self.len {
+            debug_assert!(self.vertices[k] >= k);
+            simplex.points[k] = simplex.points[self.vertices[k]];
         }
+        simplex.weights = self.weights;
+        simplex.len = self.len;
     }
 }
 
