@@ -51,6 +51,27 @@ fn narrow(c: &mut Criterion) {
             DVec3::new(0.0, 0.0, 1.5),
         ),
     );
+    // Tilted by 0.3 rad, the lowest rim point 0.1207 m below the centre: 2 mm into the
+    // cube's top face (y = 0.5), so the cores overlap and EPA measures the depth.
+    let cylinder = Shape::cylinder(0.08, 0.15);
+    let cylinder_on_box = (
+        posed(&cube, DVec3::ZERO, DVec3::ZERO),
+        posed(
+            &cylinder,
+            DVec3::new(0.1, 0.6187, 0.0),
+            DVec3::new(0.0, 0.0, 0.3),
+        ),
+    );
+    // 0.17 m apart, beyond the 0.02 m margin: the pair is dropped once GJK proves it
+    // (converging on that distance takes GJK 22 iterations).
+    let cylinders_apart = (
+        posed(&cylinder, DVec3::ZERO, DVec3::new(0.4, 0.0, 0.2)),
+        posed(
+            &cylinder,
+            DVec3::new(0.0, 0.26, 0.4),
+            DVec3::new(0.0, 0.7, 1.1),
+        ),
+    );
     c.bench_function("gjk distance, boxes apart", |b| {
         b.iter(|| gjk_distance(black_box(&apart.0), black_box(&apart.1)))
     });
@@ -66,6 +87,18 @@ fn narrow(c: &mut Criterion) {
     c.bench_function("manifold, capsule lying on a box", |b| {
         b.iter(|| {
             let (a, b2) = &capsule_on_box;
+            generate_contacts(black_box(a), black_box(b2), 0.02)
+        })
+    });
+    c.bench_function("manifold, cylinder tilted into a box (GJK + EPA)", |b| {
+        b.iter(|| {
+            let (a, b2) = &cylinder_on_box;
+            generate_contacts(black_box(a), black_box(b2), 0.02)
+        })
+    });
+    c.bench_function("manifold, cylinders out of reach (none)", |b| {
+        b.iter(|| {
+            let (a, b2) = &cylinders_apart;
             generate_contacts(black_box(a), black_box(b2), 0.02)
         })
     });
