@@ -397,10 +397,11 @@ pub fn gjk_core_distance_within(
         }
         let w = SupportPoint::of_cores(a, b, -v);
         // Every point m of the difference has m·v ≥ w·v, so |m| ≥ w·v / |v|.
-        if v.dot(w.w) > limit * v_sq.sqrt() {
+        let support_along_v = v.dot(w.w);
+        if support_along_v > limit * v_sq.sqrt() {
             return None;
         }
-        let gap = v_sq - v.dot(w.w);
+        let gap = v_sq - support_along_v;
         let floor = ROUND_OFF * scale_sq.max(w.w.length_squared());
         if gap <= RELATIVE_TOLERANCE * v_sq + floor || simplex.contains_w(w.w, DUPLICATE * scale_sq)
         {
