@@ -53,13 +53,13 @@ impl ContactCache {
                 .map(move |c| (m.body_a, m.body_b, c.feature))
         });
         self.entries.extend(keys.zip(impulses));
-        // The manifolds come in pair order, so sorting each one's few points (insertion
-        // sort: stable, in place) sorts the whole list; a caller that hands them in another
-        // order gets the full sort.
+        // The manifolds come in pair order, so sorting each one's few points sorts the whole
+        // list (a stable sort of so few allocates nothing); a caller that hands them in
+        // another order gets the full sort.
         let mut rest = &mut self.entries[..];
         for manifold in manifolds {
             let (points, after) = rest.split_at_mut(manifold.contacts.len().min(rest.len()));
-            insertion_sort(points);
+            points.sort_by_key(|entry| entry.0);
             rest = after;
         }
         if !self.entries.is_sorted_by_key(|entry| entry.0) {
@@ -79,16 +79,6 @@ impl ContactCache {
 
     pub fn clear(&mut self) {
         self.entries.clear();
-    }
-}
-
-fn insertion_sort(entries: &mut [(Key, WarmImpulse)]) {
-    for i in 1..entries.len() {
-        let mut j = i;
-        while j > 0 && entries[j - 1].0 > entries[j].0 {
-            entries.swap(j - 1, j);
-            j -= 1;
-        }
     }
 }
 
