@@ -68,6 +68,7 @@ pub fn tangent_basis(n: DVec3) -> [DVec3; 2] {
 
 /// Coulomb's law on a tangential impulse (two components along a tangent basis): scaled back
 /// onto the disc of radius `limit` = μ times the normal impulse when it lies outside.
+#[inline(always)]
 pub fn clamp_to_friction_disc(tangent: [f64; 2], limit: f64) -> [f64; 2] {
     let magnitude = (tangent[0] * tangent[0] + tangent[1] * tangent[1]).sqrt();
     if magnitude <= limit {

@@ -19,6 +19,7 @@ pub mod hull;
 pub mod impulse;
 pub mod integrate;
 pub mod islands;
+pub mod lanes;
 pub mod manifold;
 pub mod mass;
 pub mod narrow_phase;

@@ -27,6 +27,7 @@ use crate::physics::contact_colors::ContactColors;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::impulse::{Arms, clamp_to_friction_disc, tangent_basis};
 use crate::physics::integrate::{self, Integrator};
+use crate::physics::lanes::F64x4;
 use crate::physics::solver_bodies::{FIXED_SLOT, SharedBodies, SolverBodies, SolverBody};
 use crate::physics::stage_times::Stopwatch;
 
@@ -80,27 +81,36 @@ impl Default for SoftSolverSettings {
     }
 }
 
-/// One side of a prepared contact point: what an impulse does to that body.
+/// One side of a prepared contact point: what an impulse does to that body. Kept as lanes
+/// (see `lanes`) so that the speeds along the three directions, and the three components of
+/// an impulse, are each computed at once.
 #[derive(Clone, Copy, Debug)]
 struct Side {
     slot: u32,
     /// r × d for the normal and the two tangents (r the lever arm): the angular impulse of a
-    /// unit impulse along d.
-    arm: [DVec3; 3],
+    /// unit impulse along d, one vector per direction.
+    arm: [F64x4; 3],
     /// I⁻¹ (r × d) with the world inertia at step start: the point's speed along d owes
-    /// A · I⁻¹(r × d) to the angular momentum A (as ω · (r × d) = d · (ω × r)).
-    spin: [DVec3; 3],
+    /// A · I⁻¹(r × d) to the angular momentum A (as ω · (r × d) = d · (ω × r)). Transposed:
+    /// lane k of `spin[c]` is component c of direction k's vector.
+    spin: [F64x4; 3],
     /// The lever arm in body axes, or for a body that does not move in this step, the
     /// contact point in world axes: the separation follows the bodies as they turn.
+    anchor: F64x4,
+}
+
+/// What `Side` holds, as plain vectors, while a contact is prepared.
+struct SideGeometry {
+    arm: [DVec3; 3],
+    spin: [DVec3; 3],
     anchor: DVec3,
 }
 
-impl Side {
-    fn new(body: &RigidBody, slot: u32, lever: DVec3, directions: &[DVec3; 3]) -> Side {
+impl SideGeometry {
+    fn new(body: &RigidBody, slot: u32, lever: DVec3, directions: &[DVec3; 3]) -> Self {
         let moves = moves(slot);
         let arm = directions.map(|d| lever.cross(d));
-        Side {
-            slot,
+        SideGeometry {
             arm,
             spin: arm.map(|x| {
                 if moves {
@@ -117,35 +127,53 @@ impl Side {
         }
     }
 
-    /// Speed of the body's material point at the contact along direction k (`d`).
-    #[inline]
-    fn speed(&self, bodies: &SharedBodies, k: usize, d: DVec3) -> f64 {
-        let body = bodies.get(self.slot);
-        d.dot(body.linear_momentum) * body.inv_mass + body.angular_momentum.dot(self.spin[k])
-    }
-
-    fn anchor_in_world(&self, bodies: &SharedBodies) -> DVec3 {
-        if !moves(self.slot) {
-            return self.anchor; // without reading the slot: this runs every pass
-        }
-        let body = bodies.get(self.slot);
-        self.anchor_at(body.position, body.orientation)
-    }
-
-    /// The anchor in world coordinates with the body at this pose; the anchor of a body
-    /// that does not move is a world point already.
-    fn anchor_at(&self, position: DVec3, orientation: DMat3) -> DVec3 {
-        if moves(self.slot) {
+    /// The anchor in world coordinates with the body at this pose.
+    fn anchor_at(&self, slot: u32, position: DVec3, orientation: DMat3) -> DVec3 {
+        if moves(slot) {
             position + orientation * self.anchor
         } else {
             self.anchor
         }
     }
 
-    /// The body's inverse mass as the impulses see it: zero when it does not move.
-    fn inv_mass(&self, body: &RigidBody) -> f64 {
-        if moves(self.slot) { body.inv_mass } else { 0.0 }
+    fn into_lanes(self, slot: u32) -> Side {
+        Side {
+            slot,
+            arm: self.arm.map(F64x4::from_vec3),
+            spin: F64x4::transpose(self.spin),
+            anchor: F64x4::from_vec3(self.anchor),
+        }
     }
+}
+
+impl Side {
+    /// Speeds of the body's material point at the contact along the three directions
+    /// (lanes 0 to 2), given the directions transposed (`PointConstraint::across`).
+    #[inline(always)]
+    fn speeds(&self, bodies: &SharedBodies, across: &[F64x4; 3]) -> F64x4 {
+        let body = bodies.get(self.slot);
+        let [p, a] = [body.linear_momentum, body.angular_momentum];
+        let linear = across[0] * p.lane(0) + across[1] * p.lane(1) + across[2] * p.lane(2);
+        let angular =
+            self.spin[0] * a.lane(0) + self.spin[1] * a.lane(1) + self.spin[2] * a.lane(2);
+        linear * body.inv_mass + angular
+    }
+
+    #[inline(always)]
+    fn anchor_in_world(&self, bodies: &SharedBodies) -> F64x4 {
+        if !moves(self.slot) {
+            return self.anchor; // without reading the slot: this runs every pass
+        }
+        let body = bodies.get(self.slot);
+        let [x, y, z] = body.orientation;
+        let anchor = self.anchor;
+        body.position + (x * anchor.lane(0) + y * anchor.lane(1) + z * anchor.lane(2))
+    }
+}
+
+/// The body's inverse mass as the impulses see it: zero when it does not move.
+fn inv_mass(body: &RigidBody, slot: u32) -> f64 {
+    if moves(slot) { body.inv_mass } else { 0.0 }
 }
 
 fn moves(slot: u32) -> bool {
@@ -159,7 +187,11 @@ fn moves(slot: u32) -> bool {
 struct PointConstraint {
     a: Side,
     b: Side,
-    directions: [DVec3; 3],
+    /// The normal and the tangents, each as a vector: the impulses' directions.
+    directions: [F64x4; 3],
+    /// The same transposed (lane k of `across[c]` is component c of direction k), to take
+    /// the speeds along all three at once.
+    across: [F64x4; 3],
     /// Separation = normal · (world anchor b − world anchor a) + separation_offset.
     separation_offset: f64,
     /// The separation at the bodies' current poses. Poses only change between a substep's
@@ -194,28 +226,19 @@ struct PointConstraint {
 
 impl PointConstraint {
     fn normal(&self) -> DVec3 {
-        self.directions[0]
+        self.directions[0].to_vec3()
     }
 
-    /// Relative speed of b's material point over a's along direction k.
-    #[inline]
-    fn speed(&self, bodies: &SharedBodies, k: usize) -> f64 {
-        let d = self.directions[k];
-        self.b.speed(bodies, k, d) - self.a.speed(bodies, k, d)
-    }
-
-    /// The relative speeds along the normal and both tangents.
-    #[inline]
+    /// The relative speeds of b's material point over a's along the normal and both
+    /// tangents.
+    #[inline(always)]
     fn speeds(&self, bodies: &SharedBodies) -> [f64; 3] {
-        [
-            self.speed(bodies, 0),
-            self.speed(bodies, 1),
-            self.speed(bodies, 2),
-        ]
+        let speeds = self.b.speeds(bodies, &self.across) - self.a.speeds(bodies, &self.across);
+        [speeds.lane(0), speeds.lane(1), speeds.lane(2)]
     }
 
     /// Impulses λ along the three directions: +Σ λ d to b, −Σ λ d to a, at their arms.
-    #[inline]
+    #[inline(always)]
     fn apply(&self, bodies: &SharedBodies, lambda: [f64; 3]) {
         self.push(bodies, |v| {
             v[0] * lambda[0] + v[1] * lambda[1] + v[2] * lambda[2]
@@ -230,7 +253,7 @@ impl PointConstraint {
     /// The impulse `along` the directions to b and its opposite to a; `along` combines the
     /// three directions, and the same way their arms for the angular impulses.
     #[inline(always)]
-    fn push(&self, bodies: &SharedBodies, along: impl Fn(&[DVec3; 3]) -> DVec3) {
+    fn push(&self, bodies: &SharedBodies, along: impl Fn(&[F64x4; 3]) -> F64x4) {
         let linear = along(&self.directions);
         bodies.add(self.a.slot, -linear, -along(&self.a.arm));
         bodies.add(self.b.slot, linear, along(&self.b.arm));
@@ -348,13 +371,12 @@ pub fn step(
         }
         integrate_seconds += clock.lap();
         slots.refresh_momenta(bodies);
-        let biased = Some((softness, ctx.settings.max_push_out));
-        for_each_contact(&mut slots.slots, constraints, colors, |bodies, c| {
-            warm_start(bodies, c)
-        });
-        for_each_contact(&mut slots.slots, constraints, colors, |bodies, c| {
-            solve(bodies, c, h, biased)
-        });
+        let biased = Pass::Biased {
+            softness,
+            max_push_out: ctx.settings.max_push_out,
+        };
+        for_each_contact(&mut slots.slots, constraints, colors, Pass::WarmStart, h);
+        for_each_contact(&mut slots.slots, constraints, colors, biased, h);
         slots.scatter(bodies);
         clock.lap();
         for &index in awake {
@@ -362,10 +384,7 @@ pub fn step(
         }
         integrate_seconds += clock.lap();
         slots.refresh_poses(bodies);
-        for_each_contact(&mut slots.slots, constraints, colors, |bodies, c| {
-            c.separation = current_separation(bodies, c);
-            solve(bodies, c, h, None)
-        });
+        for_each_contact(&mut slots.slots, constraints, colors, Pass::Relax, h);
         slots.scatter(bodies);
     }
     // One pass, in contact order rather than colour order, on one thread. A body bouncing
@@ -419,21 +438,23 @@ fn prepare(
     let approach_speed = normal.dot(arms.relative_velocity(bodies));
     let approach_acceleration =
         normal.dot(environment_acceleration(b, forces) - environment_acceleration(a, forces));
-    let side_a = Side::new(a, slots.slot_of(contact.a), r_a, &directions);
-    let side_b = Side::new(b, slots.slot_of(contact.b), r_b, &directions);
+    let (slot_a, slot_b) = (slots.slot_of(contact.a), slots.slot_of(contact.b));
+    let side_a = SideGeometry::new(a, slot_a, r_a, &directions);
+    let side_b = SideGeometry::new(b, slot_b, r_b, &directions);
     let separation_offset = contact.separation - normal.dot(r_b - r_a + b.position - a.position);
     let (anchor_a, anchor_b) = (
-        side_a.anchor_at(a.position, a.orientation),
-        side_b.anchor_at(b.position, b.orientation),
+        side_a.anchor_at(slot_a, a.position, a.orientation),
+        side_b.anchor_at(slot_b, b.position, b.orientation),
     );
-    let inv_masses = side_a.inv_mass(a) + side_b.inv_mass(b);
+    let inv_masses = inv_mass(a, slot_a) + inv_mass(b, slot_b);
     let [normal_mass, tangent_1, tangent_2] = effective_masses(&side_a, &side_b, inv_masses);
     PointConstraint {
-        separation: separation(normal, separation_offset, anchor_a, anchor_b),
+        separation: normal.dot(anchor_b - anchor_a) + separation_offset,
         normal_to_tangent: normal_to_tangent(&side_a, &side_b, inv_masses, &directions),
-        a: side_a,
-        b: side_b,
-        directions,
+        a: side_a.into_lanes(slot_a),
+        b: side_b.into_lanes(slot_b),
+        directions: directions.map(F64x4::from_vec3),
+        across: F64x4::transpose(directions),
         separation_offset,
         normal_mass,
         tangent_mass: [tangent_1, tangent_2],
@@ -451,7 +472,7 @@ fn prepare(
 /// 1/mA + 1/mB + (rA × d)·IA⁻¹(rA × d) + (rB × d)·IB⁻¹(rB × d), from the arms and spins the
 /// sides hold (`inv_masses` is 1/mA + 1/mB). A body that does not move in this step counts
 /// as immovable, as the impulses treat it.
-fn effective_masses(a: &Side, b: &Side, inv_masses: f64) -> [f64; 3] {
+fn effective_masses(a: &SideGeometry, b: &SideGeometry, inv_masses: f64) -> [f64; 3] {
     let mass = |k: usize| {
         let inverse = inv_masses + a.arm[k].dot(a.spin[k]) + b.arm[k].dot(b.spin[k]);
         if inverse > 0.0 { 1.0 / inverse } else { 0.0 }
@@ -461,7 +482,12 @@ fn effective_masses(a: &Side, b: &Side, inv_masses: f64) -> [f64; 3] {
 
 /// `PointConstraint::normal_to_tangent`: the relative speed along each tangent that a unit
 /// normal impulse adds.
-fn normal_to_tangent(a: &Side, b: &Side, inv_masses: f64, directions: &[DVec3; 3]) -> [f64; 2] {
+fn normal_to_tangent(
+    a: &SideGeometry,
+    b: &SideGeometry,
+    inv_masses: f64,
+    directions: &[DVec3; 3],
+) -> [f64; 2] {
     [1, 2].map(|k| {
         let linear = inv_masses * directions[k].dot(directions[0]);
         linear + a.arm[0].dot(a.spin[k]) + b.arm[0].dot(b.spin[k])
@@ -471,17 +497,31 @@ fn normal_to_tangent(a: &Side, b: &Side, inv_masses: f64, directions: &[DVec3; 3
 /// Contacts in a colour that make it worth spreading over the threads.
 const PARALLEL_MIN_CONTACTS: usize = 128;
 
-/// Runs `task` on every contact, colour by colour (see `contact_colors`). A colour large
+/// One pass of a substep over the contacts.
+#[derive(Clone, Copy)]
+enum Pass {
+    /// Applies the impulses the contacts hold.
+    WarmStart,
+    /// Solves with the soft position bias.
+    Biased {
+        softness: Softness,
+        max_push_out: f64,
+    },
+    /// Measures the separations at the poses the substep moved to, then solves without
+    /// bias, removing the velocity the bias added.
+    Relax,
+}
+
+/// Runs `pass` on every contact, colour by colour (see `contact_colors`). A colour large
 /// enough is spread over the threads, a manifold per task; the result is the same to the
 /// last bit, as its manifolds share no moving body.
-fn for_each_contact<F>(
+fn for_each_contact(
     bodies: &mut [SolverBody],
     constraints: &mut [PointConstraint],
     colors: &ContactColors,
-    task: F,
-) where
-    F: Fn(&SharedBodies, &mut PointConstraint) + Sync,
-{
+    pass: Pass,
+    h: f64,
+) {
     let shared = SharedBodies::new(bodies);
     let threads = rayon::current_num_threads();
     for (range, parallel) in colors.ranges() {
@@ -489,9 +529,54 @@ fn for_each_contact<F>(
         if parallel && threads > 1 && color.len() >= PARALLEL_MIN_CONTACTS {
             color
                 .par_chunk_by_mut(PointConstraint::same_bodies)
-                .for_each(|manifold| manifold.iter_mut().for_each(|c| task(&shared, c)));
+                .for_each(|manifold| run_pass(pass, &shared, manifold, h));
         } else {
-            color.iter_mut().for_each(|c| task(&shared, c));
+            run_pass(pass, &shared, color, h);
+        }
+    }
+}
+
+/// `pass` on these contacts in order, with the lanes (see `lanes`) four to an instruction
+/// where the processor has AVX and two otherwise. Both compute the same bits.
+fn run_pass(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: the processor has AVX, as just checked.
+        return unsafe { run_pass_avx(pass, bodies, contacts, h) };
+    }
+    run_pass_inline(pass, bodies, contacts, h);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn run_pass_avx(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
+    run_pass_inline(pass, bodies, contacts, h);
+}
+
+/// The body of `run_pass`, compiled into each of its variants.
+#[inline(always)]
+fn run_pass_inline(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
+    // Plain loops: an iterator adaptor's closure may be left out of line, and would then be
+    // compiled without the variant's instructions.
+    match pass {
+        Pass::WarmStart => {
+            for c in contacts {
+                warm_start(bodies, c);
+            }
+        }
+        Pass::Biased {
+            softness,
+            max_push_out,
+        } => {
+            for c in contacts {
+                solve(bodies, c, h, Some((softness, max_push_out)));
+            }
+        }
+        Pass::Relax => {
+            for c in contacts {
+                c.separation = current_separation(bodies, c);
+                solve(bodies, c, h, None);
+            }
         }
     }
 }
@@ -507,16 +592,13 @@ fn fastest_approach(speed: f64, acceleration: f64, contact: &ContactInput, dt: f
 }
 
 /// Current separation: the anchors carried along by the bodies' motion in this step.
+#[inline(always)]
 fn current_separation(bodies: &SharedBodies, c: &PointConstraint) -> f64 {
     let (anchor_a, anchor_b) = (c.a.anchor_in_world(bodies), c.b.anchor_in_world(bodies));
-    separation(c.normal(), c.separation_offset, anchor_a, anchor_b)
+    (anchor_b - anchor_a).dot3(c.normal()) + c.separation_offset
 }
 
-/// The separation of a contact whose anchors are at these world points.
-fn separation(normal: DVec3, offset: f64, anchor_a: DVec3, anchor_b: DVec3) -> f64 {
-    normal.dot(anchor_b - anchor_a) + offset
-}
-
+#[inline(always)]
 fn warm_start(bodies: &SharedBodies, c: &mut PointConstraint) {
     let [t1, t2] = c.impulse.tangent;
     c.apply(bodies, [c.impulse.normal, t1, t2]);
@@ -524,6 +606,7 @@ fn warm_start(bodies: &SharedBodies, c: &mut PointConstraint) {
 
 /// One contact's share of a pass: normal (soft or rigid) then friction, applied together.
 /// `bias` is the softness and push-out cap when solving with position bias, None to relax.
+#[inline(always)]
 fn solve(bodies: &SharedBodies, c: &mut PointConstraint, h: f64, bias: Option<(Softness, f64)>) {
     let speeds = c.speeds(bodies);
     let normal = solve_normal(c, speeds[0], h, bias);
@@ -539,6 +622,7 @@ fn solve(bodies: &SharedBodies, c: &mut PointConstraint, h: f64, bias: Option<(S
 }
 
 /// The normal impulse this pass adds, at the relative normal speed `normal_speed`.
+#[inline(always)]
 fn solve_normal(
     c: &mut PointConstraint,
     normal_speed: f64,
@@ -579,6 +663,7 @@ fn solve_normal(
 
 /// Coulomb friction: the tangential impulse stays inside the disc of radius μ·λn. Returns
 /// the impulses this pass adds along the tangents.
+#[inline(always)]
 fn solve_friction(c: &mut PointConstraint, speeds: [f64; 2]) -> [f64; 2] {
     let limit = c.friction * c.impulse.normal;
     let unclamped = [
@@ -602,7 +687,7 @@ fn apply_restitution(bodies: &SharedBodies, c: &mut PointConstraint, threshold: 
         return;
     }
     let gap = c.separation.max(0.0);
-    let normal_speed = c.speed(bodies, 0);
+    let [normal_speed, _, _] = c.speeds(bodies);
     let delta = -c.normal_mass * (normal_speed - rebound_speed(c, gap, h));
     let accumulated = (c.impulse.normal + delta).max(0.0);
     let applied = accumulated - c.impulse.normal;
@@ -632,4 +717,101 @@ fn rebound_speed(c: &PointConstraint, gap: f64, h: f64) -> f64 {
         at_surface
     };
     at_gap - 0.5 * a * h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::body::BodyDesc;
+    use crate::physics::shape::Shape;
+    use glam::DQuat;
+
+    /// Two turning, moving boxes on a fixed one, with contacts at skew points and
+    /// remembered impulses, prepared as a step would.
+    fn scene() -> (Vec<RigidBody>, SolverBodies, Vec<PointConstraint>) {
+        let cuboid = |h: f64| Shape::cuboid(DVec3::new(h, 0.7 * h, 1.3 * h));
+        let descs = [
+            BodyDesc::fixed(cuboid(5.0)).at(DVec3::new(0.0, -3.5, 0.0)),
+            BodyDesc::dynamic(cuboid(0.5))
+                .rotated(DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -0.2, 0.7))
+                .with_velocity(DVec3::new(0.4, -1.1, 0.2))
+                .with_angular_velocity(DVec3::new(1.3, 0.2, -0.9)),
+            BodyDesc::dynamic(cuboid(0.3))
+                .at(DVec3::new(0.2, 0.9, -0.1))
+                .rotated(DQuat::from_euler(glam::EulerRot::XYZ, -0.5, 0.1, 0.2))
+                .with_velocity(DVec3::new(-0.3, 0.5, 0.1))
+                .with_angular_velocity(DVec3::new(-0.2, 2.1, 0.4)),
+        ];
+        let bodies: Vec<RigidBody> = descs
+            .iter()
+            .map(|d| RigidBody::from_desc(d).expect("valid"))
+            .collect();
+        let mut slots = SolverBodies::default();
+        slots.assign(&bodies, &[1, 2]);
+        let contact = |a: usize, b: usize, k: f64| ContactInput {
+            a,
+            b,
+            point: DVec3::new(0.1 * k, 0.3 - 0.2 * k, -0.05 * k),
+            normal: DVec3::new(0.1, 1.0, -0.2 * k).normalize(),
+            separation: 0.01 - 0.004 * k,
+            warm_impulse: WarmImpulse {
+                normal: 0.8 * k,
+                tangent: [0.1 * k, -0.05],
+            },
+        };
+        let contacts = [contact(0, 1, 1.0), contact(0, 1, 2.0), contact(1, 2, 3.0)];
+        let constraints = (contacts.iter())
+            .map(|c| prepare(&bodies, &slots, c, &[], 1.0 / 60.0))
+            .collect();
+        (bodies, slots, constraints)
+    }
+
+    #[test]
+    fn packed_and_unpacked_passes_compute_the_same_bits() {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            let softness = Softness::new(60.0, 10.0, 1.0 / 480.0);
+            let passes = [
+                Pass::WarmStart,
+                Pass::Biased {
+                    softness,
+                    max_push_out: 3.0,
+                },
+                Pass::Relax,
+            ];
+            let (_, mut slots_inline, mut inline) = scene();
+            let (_, mut slots_packed, mut packed) = scene();
+            for pass in passes {
+                let h = 1.0 / 480.0;
+                run_pass_inline(
+                    pass,
+                    &SharedBodies::new(&mut slots_inline.slots),
+                    &mut inline,
+                    h,
+                );
+                // SAFETY: the processor has AVX, as checked above.
+                unsafe {
+                    run_pass_avx(
+                        pass,
+                        &SharedBodies::new(&mut slots_packed.slots),
+                        &mut packed,
+                        h,
+                    )
+                };
+            }
+            for (x, y) in slots_inline.slots.iter().zip(&slots_packed.slots) {
+                assert_eq!(x.linear_momentum, y.linear_momentum);
+                assert_eq!(x.angular_momentum, y.angular_momentum);
+            }
+            for (x, y) in inline.iter().zip(&packed) {
+                assert_eq!((x.impulse, x.separation), (y.impulse, y.separation));
+            }
+            // The passes did something: the momenta moved from where the bodies had them.
+            let (bodies, _, _) = scene();
+            assert_ne!(
+                slots_inline.slots[1].linear_momentum.to_vec3(),
+                bodies[1].linear_momentum
+            );
+        }
+    }
 }

@@ -8,17 +8,17 @@
 
 use std::marker::PhantomData;
 
-use glam::{DMat3, DVec3};
-
 use crate::physics::body::RigidBody;
+use crate::physics::lanes::F64x4;
 
-/// The part of a body that a pass over the contacts reads and changes.
+/// The part of a body that a pass over the contacts reads and changes, as lanes (see
+/// `lanes`): the orientation by columns.
 #[derive(Clone, Copy, Debug)]
 pub struct SolverBody {
-    pub linear_momentum: DVec3,
-    pub angular_momentum: DVec3,
-    pub position: DVec3,
-    pub orientation: DMat3,
+    pub linear_momentum: F64x4,
+    pub angular_momentum: F64x4,
+    pub position: F64x4,
+    pub orientation: [F64x4; 3],
     pub inv_mass: f64,
 }
 
@@ -26,10 +26,10 @@ pub struct SolverBody {
 pub const FIXED_SLOT: u32 = 0;
 
 const FIXED: SolverBody = SolverBody {
-    linear_momentum: DVec3::ZERO,
-    angular_momentum: DVec3::ZERO,
-    position: DVec3::ZERO,
-    orientation: DMat3::IDENTITY,
+    linear_momentum: F64x4::ZERO,
+    angular_momentum: F64x4::ZERO,
+    position: F64x4::ZERO,
+    orientation: [F64x4::ZERO; 3],
     inv_mass: 0.0,
 };
 
@@ -76,8 +76,8 @@ impl SolverBodies {
     pub fn refresh_momenta(&mut self, bodies: &[RigidBody]) {
         for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
             let body = &bodies[index as usize];
-            slot.linear_momentum = body.linear_momentum;
-            slot.angular_momentum = body.angular_momentum;
+            slot.linear_momentum = F64x4::from_vec3(body.linear_momentum);
+            slot.angular_momentum = F64x4::from_vec3(body.angular_momentum);
         }
     }
 
@@ -85,8 +85,8 @@ impl SolverBodies {
     pub fn refresh_poses(&mut self, bodies: &[RigidBody]) {
         for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
             let body = &bodies[index as usize];
-            slot.position = body.position;
-            slot.orientation = body.orientation;
+            slot.position = F64x4::from_vec3(body.position);
+            slot.orientation = orientation_columns(body);
         }
     }
 
@@ -94,20 +94,24 @@ impl SolverBodies {
     pub fn scatter(&self, bodies: &mut [RigidBody]) {
         for (slot, &index) in self.slots[1..].iter().zip(&self.awake) {
             let body = &mut bodies[index as usize];
-            body.linear_momentum = slot.linear_momentum;
-            body.angular_momentum = slot.angular_momentum;
+            body.linear_momentum = slot.linear_momentum.to_vec3();
+            body.angular_momentum = slot.angular_momentum.to_vec3();
         }
     }
 }
 
 fn gathered(body: &RigidBody) -> SolverBody {
     SolverBody {
-        linear_momentum: body.linear_momentum,
-        angular_momentum: body.angular_momentum,
-        position: body.position,
-        orientation: body.orientation,
+        linear_momentum: F64x4::from_vec3(body.linear_momentum),
+        angular_momentum: F64x4::from_vec3(body.angular_momentum),
+        position: F64x4::from_vec3(body.position),
+        orientation: orientation_columns(body),
         inv_mass: body.inv_mass,
     }
+}
+
+fn orientation_columns(body: &RigidBody) -> [F64x4; 3] {
+    [0, 1, 2].map(|k| F64x4::from_vec3(body.orientation.col(k)))
 }
 
 /// The solver bodies, open to the contacts of one colour on several threads at once.
@@ -136,7 +140,7 @@ impl<'a> SharedBodies<'a> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     pub fn get(&self, slot: u32) -> &SolverBody {
         assert!((slot as usize) < self.len, "slot {slot} out of range");
         // SAFETY: in range; no other thread writes this slot (see the type's comment), and
@@ -145,8 +149,8 @@ impl<'a> SharedBodies<'a> {
     }
 
     /// Adds to a moving body's momenta; does nothing for `FIXED_SLOT`.
-    #[inline]
-    pub fn add(&self, slot: u32, linear: DVec3, angular: DVec3) {
+    #[inline(always)]
+    pub fn add(&self, slot: u32, linear: F64x4, angular: F64x4) {
         if slot == FIXED_SLOT {
             return;
         }
