@@ -109,16 +109,21 @@ struct SideGeometry {
 impl SideGeometry {
     fn new(body: &RigidBody, slot: u32, lever: DVec3, directions: &[DVec3; 3]) -> Self {
         let moves = moves(slot);
-        let arm = directions.map(|d| lever.cross(d));
+        // Arrays written out rather than mapped: `map` is not always inlined here.
+        let arm = [
+            lever.cross(directions[0]),
+            lever.cross(directions[1]),
+            lever.cross(directions[2]),
+        ];
+        let spin = if moves {
+            let inertia = body.inv_inertia_world;
+            [inertia * arm[0], inertia * arm[1], inertia * arm[2]]
+        } else {
+            [DVec3::ZERO; 3]
+        };
         SideGeometry {
             arm,
-            spin: arm.map(|x| {
-                if moves {
-                    body.inv_inertia_world * x
-                } else {
-                    DVec3::ZERO
-                }
-            }),
+            spin,
             anchor: if moves {
                 body.orientation.transpose() * lever
             } else {
@@ -309,6 +314,8 @@ pub struct SoftScratch {
     constraints: Vec<PointConstraint>,
     colors: ContactColors,
     user_forces: Vec<(DVec3, DVec3)>,
+    /// The environment's acceleration of each slot's body, at step start.
+    accelerations: Vec<DVec3>,
     bodies: SolverBodies,
 }
 
@@ -334,6 +341,7 @@ pub fn step(
         constraints,
         colors,
         user_forces,
+        accelerations,
         bodies: slots,
     } = scratch;
     slots.assign(bodies, awake);
@@ -341,13 +349,15 @@ pub fn step(
         .iter()
         .map(|c| [slots.slot_of(c.a), slots.slot_of(c.b)]);
     colors.assign(contact_slots, slots.slots.len(), FIXED_SLOT);
+    accelerations.clear();
+    accelerations.push(DVec3::ZERO); // the fixed slot: nothing that does not move accelerates
+    accelerations
+        .extend((awake.iter()).map(|&i| environment_acceleration(&bodies[i as usize], ctx.forces)));
     constraints.clear();
-    constraints.extend(
-        colors
-            .order
-            .iter()
-            .map(|&k| prepare(bodies, slots, &contacts[k as usize], ctx.forces, ctx.dt)),
-    );
+    constraints.extend(colors.order.iter().map(|&k| {
+        let contact = &contacts[k as usize];
+        prepare(bodies, slots, contact, accelerations, ctx.dt)
+    }));
     let substeps = ctx.settings.substeps.max(1);
     let h = ctx.dt / substeps as f64;
     let hertz = ctx.settings.contact_hertz.min(0.25 / h);
@@ -426,7 +436,7 @@ fn prepare(
     bodies: &[RigidBody],
     slots: &SolverBodies,
     contact: &ContactInput,
-    forces: &[EnvironmentForce],
+    accelerations: &[DVec3],
     dt: f64,
 ) -> PointConstraint {
     let (a, b) = (&bodies[contact.a], &bodies[contact.b]);
@@ -436,9 +446,9 @@ fn prepare(
     let arms = Arms::at(bodies, contact.a, contact.b, contact.point);
     let (r_a, r_b) = (arms.r_a, arms.r_b);
     let approach_speed = normal.dot(arms.relative_velocity(bodies));
-    let approach_acceleration =
-        normal.dot(environment_acceleration(b, forces) - environment_acceleration(a, forces));
     let (slot_a, slot_b) = (slots.slot_of(contact.a), slots.slot_of(contact.b));
+    let acceleration = |slot: u32| accelerations[slot as usize];
+    let approach_acceleration = normal.dot(acceleration(slot_b) - acceleration(slot_a));
     let side_a = SideGeometry::new(a, slot_a, r_a, &directions);
     let side_b = SideGeometry::new(b, slot_b, r_b, &directions);
     let separation_offset = contact.separation - normal.dot(r_b - r_a + b.position - a.position);
