@@ -38,8 +38,17 @@ impl F64x4 {
 
     /// Lane k of the result is component c of `vectors[k]`, for the three components c:
     /// three vectors transposed into lanes.
-    pub fn transpose(vectors: [DVec3; 3]) -> [F64x4; 3] {
-        [0, 1, 2].map(|c| F64x4([vectors[0][c], vectors[1][c], vectors[2][c], 0.0]))
+    pub fn transpose([a, b, c]: [DVec3; 3]) -> [F64x4; 3] {
+        [
+            F64x4([a.x, b.x, c.x, 0.0]),
+            F64x4([a.y, b.y, c.y, 0.0]),
+            F64x4([a.z, b.z, c.z, 0.0]),
+        ]
+    }
+
+    /// Each vector's components in lanes 0 to 2.
+    pub fn from_vec3s([a, b, c]: [DVec3; 3]) -> [F64x4; 3] {
+        [Self::from_vec3(a), Self::from_vec3(b), Self::from_vec3(c)]
     }
 
     #[inline(always)]

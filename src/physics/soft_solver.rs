@@ -144,7 +144,7 @@ impl SideGeometry {
     fn into_lanes(self, slot: u32) -> Side {
         Side {
             slot,
-            arm: self.arm.map(F64x4::from_vec3),
+            arm: F64x4::from_vec3s(self.arm),
             spin: F64x4::transpose(self.spin),
             anchor: F64x4::from_vec3(self.anchor),
         }
@@ -463,7 +463,7 @@ fn prepare(
         normal_to_tangent: normal_to_tangent(&side_a, &side_b, inv_masses, &directions),
         a: side_a.into_lanes(slot_a),
         b: side_b.into_lanes(slot_b),
-        directions: directions.map(F64x4::from_vec3),
+        directions: F64x4::from_vec3s(directions),
         across: F64x4::transpose(directions),
         separation_offset,
         normal_mass,
@@ -498,10 +498,11 @@ fn normal_to_tangent(
     inv_masses: f64,
     directions: &[DVec3; 3],
 ) -> [f64; 2] {
-    [1, 2].map(|k| {
+    let coupling = |k: usize| {
         let linear = inv_masses * directions[k].dot(directions[0]);
         linear + a.arm[0].dot(a.spin[k]) + b.arm[0].dot(b.spin[k])
-    })
+    };
+    [coupling(1), coupling(2)]
 }
 
 /// Contacts in a colour that make it worth spreading over the threads.
@@ -625,7 +626,10 @@ fn solve(bodies: &SharedBodies, c: &mut PointConstraint, h: f64, bias: Option<(S
     let tangent_speeds = if normal == 0.0 {
         [speeds[1], speeds[2]]
     } else {
-        [1, 2].map(|k| speeds[k] + c.normal_to_tangent[k - 1] * normal)
+        [
+            speeds[1] + c.normal_to_tangent[0] * normal,
+            speeds[2] + c.normal_to_tangent[1] * normal,
+        ]
     };
     let [t1, t2] = solve_friction(c, tangent_speeds);
     c.apply(bodies, [normal, t1, t2]);
@@ -779,7 +783,7 @@ mod tests {
         };
         let contacts = [contact(0, 1, 1.0), contact(0, 1, 2.0), contact(1, 2, 3.0)];
         let constraints = (contacts.iter())
-            .map(|c| prepare(&bodies, &slots, c, &[], 1.0 / 60.0))
+            .map(|c| prepare(&bodies, &slots, c, &[DVec3::ZERO; 3], 1.0 / 60.0))
             .collect();
         (bodies, slots, constraints)
     }
