@@ -601,6 +601,8 @@ fn clip_contacts(
         .map(|&i| reference.vertices[i as usize])
         .collect();
     let center = corners.iter().sum::<DVec3>() / corners.len() as f64;
+    // Each side clips from one buffer into the other, so no polygon is copied.
+    let mut clipped = ClipPolygon::new();
     for (side, &start) in corners.iter().enumerate() {
         let end = corners[(side + 1) % corners.len()];
         let mut plane = (end - start).cross(normal).normalize_or_zero();
@@ -608,7 +610,8 @@ fn clip_contacts(
             plane = -plane;
         }
         let tag = EDGE_TAG | ((face as u32) << 8) | side as u32;
-        polygon = clip_polygon(&polygon, plane, plane.dot(start), tag);
+        clip_polygon(&polygon, plane, plane.dot(start), tag, &mut clipped);
+        std::mem::swap(&mut polygon, &mut clipped);
     }
     let sign = if reference_is_a { 1.0 } else { -1.0 };
     polygon
@@ -635,9 +638,15 @@ fn clip_contacts(
         .collect()
 }
 
-/// Sutherland–Hodgman against one plane: keeps the part with `plane · x ≤ offset`.
-fn clip_polygon(polygon: &[ClipPoint], plane: DVec3, offset: f64, side_tag: u32) -> ClipPolygon {
-    let mut out = ClipPolygon::with_capacity(polygon.len() + 1);
+/// Sutherland–Hodgman against one plane: keeps the part with `plane · x ≤ offset`, in `out`.
+fn clip_polygon(
+    polygon: &[ClipPoint],
+    plane: DVec3,
+    offset: f64,
+    side_tag: u32,
+    out: &mut ClipPolygon,
+) {
+    out.clear();
     for (k, &p) in polygon.iter().enumerate() {
         let q = polygon[(k + 1) % polygon.len()];
         let (dp, dq) = (
@@ -659,7 +668,6 @@ fn clip_polygon(polygon: &[ClipPoint], plane: DVec3, offset: f64, side_tag: u32)
             });
         }
     }
-    out
 }
 
 /// Keeps at most 4 points spanning the largest area: the deepest, the farthest from it,
