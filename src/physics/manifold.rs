@@ -92,12 +92,14 @@ fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> 
     let polyhedral =
         |posed: &PosedShape| matches!(posed.shape, Shape::Cuboid { .. } | Shape::ConvexHull(_));
     // Both are checked before either is built: a box against a cylinder builds nothing.
-    let polyhedra = (polyhedral(a) && polyhedral(b))
-        .then(|| Polyhedron::of(a).zip(Polyhedron::of(b)))
-        .flatten();
-    let mut contacts = match polyhedra {
-        Some((pa, pb)) => polyhedron_contacts(&pa, &pb, margin),
-        None => round_contacts(a, b, margin),
+    // The polyhedra stay where they are built (no pairing into an Option): they are large.
+    let mut contacts = if polyhedral(a) && polyhedral(b) {
+        match (Polyhedron::of(a), Polyhedron::of(b)) {
+            (Some(pa), Some(pb)) => polyhedron_contacts(&pa, &pb, margin),
+            _ => round_contacts(a, b, margin),
+        }
+    } else {
+        round_contacts(a, b, margin)
     };
     if contacts.is_empty() {
         // Clipping can cut away a whole incident face when a face axis was preferred over a

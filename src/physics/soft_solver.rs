@@ -84,7 +84,7 @@ impl Default for SoftSolverSettings {
 /// One side of a prepared contact point: what an impulse does to that body. Kept as lanes
 /// (see `lanes`) so that the speeds along the three directions, and the three components of
 /// an impulse, are each computed at once.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct Side {
     slot: u32,
     /// r × d for the normal and the two tangents (r the lever arm): the angular impulse of a
@@ -188,7 +188,7 @@ fn moves(slot: u32) -> bool {
 /// One prepared contact point. Its directions are the normal (from a to b), then the two
 /// tangents; the arms stay fixed for the step: impulses act where the bodies touch, not
 /// where that material point has rotated to (a rolling ball keeps pushing at its bottom).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct PointConstraint {
     a: Side,
     b: Side,
@@ -353,11 +353,11 @@ pub fn step(
     accelerations.push(DVec3::ZERO); // the fixed slot: nothing that does not move accelerates
     accelerations
         .extend((awake.iter()).map(|&i| environment_acceleration(&bodies[i as usize], ctx.forces)));
-    constraints.clear();
-    constraints.extend(colors.order.iter().map(|&k| {
-        let contact = &contacts[k as usize];
-        prepare(bodies, slots, contact, accelerations, ctx.dt)
-    }));
+    // Written in place: collecting would build each (large) constraint aside and copy it.
+    constraints.resize(colors.order.len(), PointConstraint::default());
+    for (constraint, &k) in constraints.iter_mut().zip(&colors.order) {
+        *constraint = prepare(bodies, slots, &contacts[k as usize], accelerations, ctx.dt);
+    }
     let substeps = ctx.settings.substeps.max(1);
     let h = ctx.dt / substeps as f64;
     let hertz = ctx.settings.contact_hertz.min(0.25 / h);
