@@ -649,12 +649,18 @@ fn clip_polygon(
     out: &mut ClipPolygon,
 ) {
     out.clear();
+    let Some(first) = polygon.first() else {
+        return;
+    };
+    // Each point's distance is measured once and carried to the edge that starts at it.
+    let distance = |point: &ClipPoint| plane.dot(point.position) - offset;
+    let first_distance = distance(first);
+    let mut dp = first_distance;
     for (k, &p) in polygon.iter().enumerate() {
-        let q = polygon[(k + 1) % polygon.len()];
-        let (dp, dq) = (
-            plane.dot(p.position) - offset,
-            plane.dot(q.position) - offset,
-        );
+        let (q, dq) = match polygon.get(k + 1) {
+            Some(next) => (*next, distance(next)),
+            None => (*first, first_distance),
+        };
         if dp <= 0.0 {
             out.push(p);
         }
@@ -669,6 +675,7 @@ fn clip_polygon(
                 kind: ContactKind::EdgeEdge,
             });
         }
+        dp = dq;
     }
 }
 
