@@ -361,7 +361,10 @@ fn initial_polytope(
     b: &impl SupportMap,
     simplex: &Simplex,
 ) -> Result<Polytope, Vec<SupportPoint>> {
-    let mut points: Vec<SupportPoint> = simplex.vertices().to_vec();
+    // Room for a typical expansion from the start: growing by doubling reallocated each
+    // list four or five times per call.
+    let mut points: Vec<SupportPoint> = Vec::with_capacity(EXPECTED_POINTS);
+    points.extend_from_slice(simplex.vertices());
     if points.len() == 4 && tetra_volume(&points).abs() <= volume_floor(&points) {
         points.truncate(3);
     }
@@ -378,7 +381,7 @@ fn initial_polytope(
     }
     let mut polytope = Polytope {
         points,
-        faces: Vec::new(),
+        faces: Vec::with_capacity(2 * EXPECTED_POINTS),
     };
     // With positive volume (b−a)×(c−a)·(d−a) > 0, these windings face outward.
     for face in [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
@@ -387,6 +390,10 @@ fn initial_polytope(
     polytope.link_by_search();
     Ok(polytope)
 }
+
+/// Polytope vertices to make room for up front: a tetrahedron and about a dozen expansions
+/// (each removed face stays in the list, so faces grow by about two per vertex).
+const EXPECTED_POINTS: usize = 16;
 
 /// Relative thickness below which a core difference counts as flat.
 const FLAT_TOLERANCE: f64 = 1e-9;

@@ -727,7 +727,8 @@ fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
     let Some(main) = closest_contact(a, b, margin) else {
         return Vec::new();
     };
-    let mut extra = Vec::new();
+    // Room for the extra points of both shapes and the closest pair, so that it never grows.
+    let mut extra = Vec::with_capacity(2 * MAX_MANIFOLD_POINTS + 1);
     for (k, point) in extra_points(a, main.normal).into_iter().enumerate() {
         extra.extend(point_contact(
             &point,
@@ -799,7 +800,10 @@ impl SupportMap for SurfacePoint {
 /// Points of a capsule or cylinder that may touch along with the closest one: the two ends
 /// of a lying capsule's segment, the two ends of a lying cylinder's contact line, or four
 /// rim points of a standing cylinder's cap. `normal` points away from the shape.
-fn extra_points(posed: &PosedShape, normal: DVec3) -> Vec<SurfacePoint> {
+/// At most four: held inline, as this runs for every round pair.
+type SurfacePoints = SmallVec<[SurfacePoint; 4]>;
+
+fn extra_points(posed: &PosedShape, normal: DVec3) -> SurfacePoints {
     let axis = posed.rotation * DVec3::Y;
     let along = axis.dot(normal);
     match *posed.shape {
@@ -811,7 +815,8 @@ fn extra_points(posed: &PosedShape, normal: DVec3) -> Vec<SurfacePoint> {
                 center: posed.to_world(DVec3::Y * (s * half_height)),
                 radius,
             })
-            .into(),
+            .into_iter()
+            .collect(),
         Shape::Cylinder {
             half_height,
             radius,
@@ -822,7 +827,8 @@ fn extra_points(posed: &PosedShape, normal: DVec3) -> Vec<SurfacePoint> {
                     center: posed.to_world(DVec3::ZERO) + axis * (s * half_height) + radial,
                     radius: 0.0,
                 })
-                .into()
+                .into_iter()
+                .collect()
         }
         Shape::Cylinder {
             half_height,
@@ -835,9 +841,10 @@ fn extra_points(posed: &PosedShape, normal: DVec3) -> Vec<SurfacePoint> {
                     center: cap + d * radius,
                     radius: 0.0,
                 })
-                .into()
+                .into_iter()
+                .collect()
         }
-        _ => Vec::new(),
+        _ => SurfacePoints::new(),
     }
 }
 
