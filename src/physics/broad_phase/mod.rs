@@ -145,20 +145,42 @@ impl SplitBroadPhase {
         self.awake_proxies.clear();
         self.awake_proxies
             .extend(awake.iter().map(|&i| proxies[i as usize]));
-        let mut pairs: Vec<BodyPair> = self
+        // The awake phase's pairs come sorted, and `awake` ascends, so renaming them keeps
+        // them sorted: only the pairs with an idle body need sorting, then the two merge.
+        let awake_pairs: Vec<BodyPair> = self
             .awake_phase
             .find_pairs(&self.awake_proxies)
             .into_iter()
             .map(|p| BodyPair::new(awake[p.a.index()] as usize, awake[p.b.index()] as usize))
             .collect();
+        debug_assert!(awake_pairs.is_sorted());
+        let mut idle_pairs = Vec::new();
         for &i in awake {
             let aabb = &proxies[i as usize].aabb;
             self.idle
-                .query(aabb, |j| pairs.push(BodyPair::new(i as usize, j as usize)));
+                .query(aabb, |j| idle_pairs.push(BodyPair::new(i as usize, j as usize)));
         }
-        pairs.sort_unstable();
-        pairs
+        idle_pairs.sort_unstable();
+        merge_sorted(&awake_pairs, &idle_pairs)
     }
+}
+
+/// The elements of two sorted lists, sorted.
+fn merge_sorted<T: Copy + Ord>(x: &[T], y: &[T]) -> Vec<T> {
+    let mut merged = Vec::with_capacity(x.len() + y.len());
+    let (mut i, mut j) = (0, 0);
+    while i < x.len() && j < y.len() {
+        if y[j] < x[i] {
+            merged.push(y[j]);
+            j += 1;
+        } else {
+            merged.push(x[i]);
+            i += 1;
+        }
+    }
+    merged.extend_from_slice(&x[i..]);
+    merged.extend_from_slice(&y[j..]);
+    merged
 }
 
 impl Clone for SplitBroadPhase {
