@@ -191,13 +191,28 @@ impl<'a> Polyhedron<'a> {
         let (vertices, faces, edges, edge_faces): (Vertices, SmallVec<[Polygon; 6]>, _, _) =
             match posed.shape {
                 Shape::Cuboid { half_extents } => {
-                    let vertices: Vertices = (0..8)
-                        .map(|i| to_world(box_corner(*half_extents, i)))
-                        .collect();
-                    let faces = BOX_FACES
-                        .iter()
-                        .map(|(indices, normal)| face(indices, *normal, &vertices))
-                        .collect();
+                    // Whole arrays: collecting pushes one at a time, through an extend the
+                    // compiler may leave out of line.
+                    let corner = |i: u32| to_world(box_corner(*half_extents, i));
+                    let vertices = Vertices::from_buf([
+                        corner(0),
+                        corner(1),
+                        corner(2),
+                        corner(3),
+                        corner(4),
+                        corner(5),
+                        corner(6),
+                        corner(7),
+                    ]);
+                    let box_face = |k: usize| face(&BOX_FACES[k].0, BOX_FACES[k].1, &vertices);
+                    let faces = SmallVec::from_buf([
+                        box_face(0),
+                        box_face(1),
+                        box_face(2),
+                        box_face(3),
+                        box_face(4),
+                        box_face(5),
+                    ]);
                     let edge_faces = Cow::Borrowed(BOX_EDGE_FACES.as_slice());
                     (vertices, faces, BOX_EDGES.as_slice(), edge_faces)
                 }
