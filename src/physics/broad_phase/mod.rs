@@ -157,8 +157,9 @@ impl SplitBroadPhase {
         let mut idle_pairs = Vec::new();
         for &i in awake {
             let aabb = &proxies[i as usize].aabb;
-            self.idle
-                .query(aabb, |j| idle_pairs.push(BodyPair::new(i as usize, j as usize)));
+            self.idle.query(aabb, |j| {
+                idle_pairs.push(BodyPair::new(i as usize, j as usize))
+            });
         }
         idle_pairs.sort_unstable();
         merge_sorted(&awake_pairs, &idle_pairs)
