@@ -4,23 +4,28 @@
 //! Run: `CARGO_TARGET_DIR=/work/target-peer cargo run --release --manifest-path peer/Cargo.toml`
 
 mod ours;
+mod overlap;
 mod scenes;
 mod theirs;
 
 use std::time::Instant;
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use crate::ours::Ours;
+use crate::overlap::overlap;
 use crate::scenes::{DT, GRAVITY, SceneDesc};
 use crate::theirs::Theirs;
 
 /// What the benchmark needs from an engine. Body `i` is `scene.bodies[i]` in both engines.
 pub trait Engine {
-    fn build(scene: &SceneDesc) -> Self;
+    /// With `substeps` solver substeps (rapier: solver iterations), or the engine's default.
+    fn build(scene: &SceneDesc, substeps: Option<u32>) -> Self;
     fn step(&mut self);
     /// Centre of mass, world.
     fn position(&self, i: usize) -> DVec3;
+    /// Body axes in world axes.
+    fn orientation(&self, i: usize) -> DMat3;
     fn velocity(&self, i: usize) -> DVec3;
     fn kinetic_energy(&self, i: usize) -> f64;
     fn mass(&self, i: usize) -> f64;
@@ -32,8 +37,8 @@ const REPEATS: usize = 5;
 
 /// Builds the scene, runs all its steps and returns the engine as it ended and the wall time
 /// per step in ms. Only the steps are timed, not the building.
-fn run<E: Engine>(scene: &SceneDesc) -> (E, f64) {
-    let mut engine = E::build(scene);
+fn run<E: Engine>(scene: &SceneDesc, substeps: Option<u32>) -> (E, f64) {
+    let mut engine = E::build(scene, substeps);
     let start = Instant::now();
     for _ in 0..scene.steps {
         engine.step();
@@ -48,16 +53,20 @@ fn median(mut values: Vec<f64>) -> f64 {
 }
 
 /// Both engines `REPEATS` times each, taking turns so that a load that comes and goes on the
-/// machine falls on both alike. Returns each engine's last run (the runs are deterministic)
-/// and the median ms per step of each.
-fn run_both(scene: &SceneDesc) -> ((Ours, f64), (Theirs, f64)) {
+/// machine falls on both alike, each with the substeps given (None: its default). Returns
+/// each engine's last run (the runs are deterministic) and the median ms per step of each.
+fn run_both(
+    scene: &SceneDesc,
+    ours_substeps: Option<u32>,
+    theirs_substeps: Option<u32>,
+) -> ((Ours, f64), (Theirs, f64)) {
     let (mut ours_times, mut theirs_times) = (Vec::new(), Vec::new());
     let (mut ours_last, mut theirs_last) = (None, None);
     for _ in 0..REPEATS {
-        let (engine, ms) = run::<Ours>(scene);
+        let (engine, ms) = run::<Ours>(scene, ours_substeps);
         ours_times.push(ms);
         ours_last = Some(engine);
-        let (engine, ms) = run::<Theirs>(scene);
+        let (engine, ms) = run::<Theirs>(scene, theirs_substeps);
         theirs_times.push(ms);
         theirs_last = Some(engine);
     }
@@ -103,7 +112,7 @@ fn pyramid_result<E: Engine>(engine: &E, scene: &SceneDesc) -> (f64, usize, usiz
 
 fn pyramid_row() -> Row {
     let scene = scenes::pyramid();
-    let ((ours, ours_ms), (theirs, theirs_ms)) = run_both(&scene);
+    let ((ours, ours_ms), (theirs, theirs_ms)) = run_both(&scene, None, None);
     let (ours_drift, ours_asleep, n) = pyramid_result(&ours, &scene);
     let (theirs_drift, theirs_asleep, _) = pyramid_result(&theirs, &scene);
     let cell =
@@ -132,16 +141,24 @@ fn rain_result<E: Engine>(engine: &E, scene: &SceneDesc, bin: scenes::Bin) -> (u
         .filter(|&i| !bin.holds(engine.position(i)))
         .count();
     // The start energy from this engine's own masses (a fresh build: all at rest).
-    let start = total_energy(&E::build(scene), scene);
+    let start = total_energy(&E::build(scene, None), scene);
     (escaped, total_energy(engine, scene) / start)
 }
 
 fn rain_row(count: usize) -> Row {
     let (scene, bin) = scenes::rain(count);
-    let ((ours, ours_ms), (theirs, theirs_ms)) = run_both(&scene);
+    let ((ours, ours_ms), (theirs, theirs_ms)) = run_both(&scene, None, None);
     let (ours_escaped, ours_energy) = rain_result(&ours, &scene, bin);
     let (theirs_escaped, theirs_energy) = rain_result(&theirs, &scene, bin);
-    let cell = |escaped: usize, energy: f64| format!("{escaped} escaped, E/E₀ {energy:.3}");
+    let (ours_overlap, theirs_overlap) = (overlap(&ours, &scene), overlap(&theirs, &scene));
+    let cell = |escaped: usize, energy: f64, overlap: overlap::Overlap| {
+        format!(
+            "{escaped} escaped, E/E₀ {energy:.3}, overlap deepest {:.1} mm, mean {:.2} mm ({} pairs)",
+            overlap.deepest * 1e3,
+            overlap.mean * 1e3,
+            overlap.pairs
+        )
+    };
     Row {
         scene: format!(
             "rain {count}, bin {w:.0} × {w:.0} × {h:.2} m, 5 s",
@@ -150,9 +167,9 @@ fn rain_row(count: usize) -> Row {
         ),
         ours_ms,
         theirs_ms,
-        ours_error: cell(ours_escaped, ours_energy),
-        theirs_error: cell(theirs_escaped, theirs_energy),
-        error_ratio: ratio(ours_escaped as f64, theirs_escaped as f64),
+        ours_error: cell(ours_escaped, ours_energy, ours_overlap),
+        theirs_error: cell(theirs_escaped, theirs_energy, theirs_overlap),
+        error_ratio: ratio(ours_overlap.deepest, theirs_overlap.deepest),
     }
 }
 
@@ -162,7 +179,7 @@ fn rain_row(count: usize) -> Row {
 /// Builds the scene and runs it, calling `observe` after every step. Returns the engine as
 /// it ended and the ms per step (the steps alone are timed).
 fn run_observed<E: Engine>(scene: &SceneDesc, mut observe: impl FnMut(&E)) -> (E, f64) {
-    let mut engine = E::build(scene);
+    let mut engine = E::build(scene, None);
     let mut seconds = 0.0;
     for _ in 0..scene.steps {
         let start = Instant::now();
@@ -279,6 +296,130 @@ fn roll_row() -> Row {
 }
 
 // ---------------------------------------------------------------------------------------
+// Work against error: both engines over their substeps.
+
+/// Our substeps (default 8) and rapier's solver iterations (default 4), run in pairs taking
+/// turns.
+const SWEEP: [(u32, u32); 3] = [(4, 4), (6, 6), (8, 8)];
+
+/// What a sweep measures as the error of a run, m.
+#[derive(Clone, Copy)]
+enum SweepError {
+    /// The pyramid's worst drift.
+    Drift,
+    /// The deepest overlap of two bodies at the end.
+    DeepestOverlap,
+}
+
+impl SweepError {
+    fn of<E: Engine>(self, engine: &E, scene: &SceneDesc) -> f64 {
+        match self {
+            SweepError::Drift => pyramid_result(engine, scene).0,
+            SweepError::DeepestOverlap => overlap(engine, scene).deepest,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            SweepError::Drift => "worst drift",
+            SweepError::DeepestOverlap => "deepest overlap",
+        }
+    }
+}
+
+/// One engine at one setting: median ms per step and the error, m.
+struct Setting {
+    substeps: u32,
+    ms: f64,
+    error: f64,
+}
+
+struct Sweep {
+    scene: String,
+    error: SweepError,
+    ours: Vec<Setting>,
+    theirs: Vec<Setting>,
+}
+
+fn sweep(scene_name: &str, scene: &SceneDesc, error: SweepError) -> Sweep {
+    let (mut ours, mut theirs) = (Vec::new(), Vec::new());
+    for (our_substeps, their_iterations) in SWEEP {
+        let ((o, o_ms), (t, t_ms)) = run_both(scene, Some(our_substeps), Some(their_iterations));
+        ours.push(Setting {
+            substeps: our_substeps,
+            ms: o_ms,
+            error: error.of(&o, scene),
+        });
+        theirs.push(Setting {
+            substeps: their_iterations,
+            ms: t_ms,
+            error: error.of(&t, scene),
+        });
+    }
+    Sweep {
+        scene: scene_name.to_owned(),
+        error,
+        ours,
+        theirs,
+    }
+}
+
+fn sweep_table(sweeps: &[Sweep]) -> String {
+    let mut out = String::from(
+        "| scene | engine | substeps (rapier: solver iterations) | ms/step | error |\n\
+         |---|---|---|---|---|\n",
+    );
+    for sweep in sweeps {
+        for (engine, settings) in [("ours", &sweep.ours), ("rapier", &sweep.theirs)] {
+            for s in settings {
+                out += &format!(
+                    "| {} | {engine} | {} | {:.4} | {} {:.1} mm |\n",
+                    sweep.scene,
+                    s.substeps,
+                    s.ms,
+                    sweep.error.name(),
+                    s.error * 1e3
+                );
+            }
+        }
+    }
+    out
+}
+
+/// For each of rapier's settings, our fastest setting at equal or lower error, and the
+/// ratio of the times.
+fn sweep_verdicts(sweeps: &[Sweep]) -> String {
+    let mut out = String::new();
+    for sweep in sweeps {
+        for theirs in &sweep.theirs {
+            let ours = (sweep.ours.iter())
+                .filter(|o| o.error <= theirs.error)
+                .min_by(|x, y| x.ms.total_cmp(&y.ms));
+            let verdict = match ours {
+                Some(o) => format!(
+                    "our fastest at equal or lower error is {} substeps ({:.1} mm, {:.4} \
+                     ms/step): time ratio {:.2}",
+                    o.substeps,
+                    o.error * 1e3,
+                    o.ms,
+                    o.ms / theirs.ms
+                ),
+                None => "no setting of ours tried is as accurate".to_owned(),
+            };
+            out += &format!(
+                "- {}, rapier at {} iterations ({} {:.1} mm, {:.4} ms/step): {verdict}.\n",
+                sweep.scene,
+                theirs.substeps,
+                sweep.error.name(),
+                theirs.error * 1e3,
+                theirs.ms
+            );
+        }
+    }
+    out
+}
+
+// ---------------------------------------------------------------------------------------
 // Report.
 
 /// The version of a package as resolved in this crate's lock file.
@@ -297,7 +438,7 @@ fn details() -> String {
     let ours = rigid::physics::World::default().settings;
     let solver = ours.solver;
     let sleep = ours.sleep;
-    let p = theirs::parameters();
+    let p = theirs::parameters(None);
     let rayon_threads = std::env::var("RAYON_NUM_THREADS").unwrap_or_default();
     format!(
         "- Same bodies in both engines, built from one description in `peer/src/scenes.rs`; \
@@ -322,8 +463,10 @@ fn details() -> String {
          - Times: wall time of the steps only (not the building), ms per step, median of \
          {REPEATS} runs with the two engines taking turns; the C cases run once each. Errors: \
          pyramid, the largest distance any box moved from its start; rain, bodies whose centre \
-         left the bin (should be 0) and the energy left at the end (kinetic + m g y above the \
-         floor) over the energy at the start (no exact answer: it only must not exceed 1); C \
+         left the bin (should be 0), the energy left at the end (kinetic + m g y above the \
+         floor) over the energy at the start (no exact answer: it only must not exceed 1), and \
+         the overlap of the bodies at the end, measured the same way for both (our signed \
+         distance on the poses each engine reports; its deepest is the error compared); C \
          cases, signed relative error against the analytic answer. Ratios are ours / rapier's, \
          of times and of |errors|: above 1 means we are slower or less accurate.\n",
         1.0 / DT,
@@ -425,8 +568,25 @@ fn main() {
     rows.extend(bounce_rows());
     rows.push(slide_row());
     rows.push(roll_row());
+    eprintln!("sweeps…");
+    let sweeps = [
+        sweep("pyramid", &scenes::pyramid(), SweepError::Drift),
+        sweep(
+            "rain 1000",
+            &scenes::rain(1000).0,
+            SweepError::DeepestOverlap,
+        ),
+    ];
     println!("## Side by side with rapier3d\n");
     println!("{}", details());
     println!("{}", table(&rows));
     println!("{}", notes(&rows));
+    println!("### Work against error over the substeps\n");
+    println!(
+        "Both engines over their substeps, in pairs taking turns as above (our spring stiffness \
+         stays at its default, capped at a fifth of the substep rate). The errors are the \
+         table's: the pyramid's worst drift, the rain's deepest overlap.\n"
+    );
+    println!("{}", sweep_table(&sweeps));
+    println!("{}", sweep_verdicts(&sweeps));
 }

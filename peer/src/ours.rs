@@ -1,7 +1,8 @@
 //! Our engine (`rigid`) built from a shared scene description, at its default settings:
-//! the `soft` pipeline with 8 substeps, the midpoint integrator and sleeping on.
+//! the `soft` pipeline with 8 substeps, the midpoint integrator and sleeping on. Only the
+//! substeps may be set otherwise (for the sweep of work against error).
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use rigid::physics::{BodyDesc, BodyId, EnvironmentForce, Material, Shape, World};
 
 use crate::Engine;
@@ -13,9 +14,28 @@ pub struct Ours {
     ids: Vec<BodyId>,
 }
 
+/// Our shape for a shared shape description.
+pub fn shape_of(shape: ShapeDesc) -> Shape {
+    match shape {
+        ShapeDesc::Sphere { radius } => Shape::sphere(radius),
+        ShapeDesc::Cuboid { half_extents } => Shape::cuboid(half_extents),
+        ShapeDesc::Capsule {
+            half_height,
+            radius,
+        } => Shape::capsule(half_height, radius),
+        ShapeDesc::Cylinder {
+            half_height,
+            radius,
+        } => Shape::cylinder(half_height, radius),
+    }
+}
+
 impl Engine for Ours {
-    fn build(scene: &SceneDesc) -> Self {
+    fn build(scene: &SceneDesc, substeps: Option<u32>) -> Self {
         let mut world = World::default();
+        if let Some(substeps) = substeps {
+            world.settings.solver.substeps = substeps;
+        }
         world.forces.push(EnvironmentForce::Gravity {
             acceleration: DVec3::new(0.0, -scenes::GRAVITY, 0.0),
         });
@@ -23,18 +43,7 @@ impl Engine for Ours {
             .bodies
             .iter()
             .map(|b| {
-                let shape = match b.shape {
-                    ShapeDesc::Sphere { radius } => Shape::sphere(radius),
-                    ShapeDesc::Cuboid { half_extents } => Shape::cuboid(half_extents),
-                    ShapeDesc::Capsule {
-                        half_height,
-                        radius,
-                    } => Shape::capsule(half_height, radius),
-                    ShapeDesc::Cylinder {
-                        half_height,
-                        radius,
-                    } => Shape::cylinder(half_height, radius),
-                };
+                let shape = shape_of(b.shape);
                 let desc = if b.fixed {
                     BodyDesc::fixed(shape)
                 } else {
@@ -62,6 +71,10 @@ impl Engine for Ours {
 
     fn position(&self, i: usize) -> DVec3 {
         self.world.body(self.ids[i]).position
+    }
+
+    fn orientation(&self, i: usize) -> DMat3 {
+        self.world.body(self.ids[i]).orientation
     }
 
     fn velocity(&self, i: usize) -> DVec3 {

