@@ -171,6 +171,42 @@ fn lying_capsule_and_cylinders_get_stable_patches() {
 }
 
 #[test]
+fn a_cylinder_cap_across_a_box_edge_is_held_by_the_corners_under_it() {
+    // An upright cylinder 1 mm into a box's top face, its axis 5 cm in from the box's edge
+    // at x = 0.15: the cap overhangs the edge, and the patch where they touch is the disc
+    // cut by the face: the box corners (0.15, ±0.12) and the rim beyond x = 0.01.
+    let block = Shape::cuboid(DVec3::new(0.15, 0.1, 0.12));
+    let a = at(&block, DVec3::ZERO, DQuat::IDENTITY);
+    let cylinder = Shape::cylinder(0.08, 0.15);
+    let b = at(&cylinder, DVec3::new(0.1, 0.179, 0.0), DQuat::IDENTITY);
+    let contacts = generate_contacts(&a, &b, 0.0);
+    let axis = DVec3::new(0.1, 0.0, 0.0); // where the axis meets y = 0
+    for c in &contacts {
+        assert!((c.separation + 0.001).abs() < TOL, "{c:?}");
+        assert_close(c.normal, DVec3::Y, TOL);
+        let p = DVec3::new(c.position.x, 0.0, c.position.z);
+        let in_face = p.x <= 0.15 + TOL && p.z.abs() <= 0.12 + TOL;
+        assert!(
+            in_face && p.distance(axis) <= 0.15 + TOL,
+            "{c:?} outside the patch"
+        );
+    }
+    // The cylinder stands: its axis passes inside the points' convex hull (no direction
+    // has every point behind the axis). The rim points alone, one of them on the box, held
+    // it on a line.
+    let holds = (0..360).all(|k| {
+        let d = DVec3::new(
+            (k as f64).to_radians().cos(),
+            0.0,
+            (k as f64).to_radians().sin(),
+        );
+        let reach = |c: &&rigid::physics::Contact| (c.position - axis).with_y(0.0).dot(d);
+        contacts.iter().map(|c| reach(&c)).fold(f64::MIN, f64::max) > 0.0
+    });
+    assert!(holds, "{contacts:?}");
+}
+
+#[test]
 fn margin_keeps_near_contacts_and_drops_far_ones() {
     let cube = Shape::cuboid(DVec3::splat(0.5));
     let a = at(&cube, DVec3::ZERO, DQuat::IDENTITY);

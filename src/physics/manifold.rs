@@ -8,7 +8,9 @@
 //!   one edge-edge contact.
 //! - Spheres and capsules, cylinders: closest features from GJK on the cores (EPA when the
 //!   cores overlap), plus the capsule's end points or the cylinder's rim points when they lie
-//!   flat along the other surface, so that lying shapes get a stable line or patch.
+//!   flat along the other surface, so that lying shapes get a stable line or patch; a
+//!   cylinder's cap facing a polyhedron also gets the corners of the polyhedron's face
+//!   clipped to the cap's disc.
 //!
 //! Contacts are kept while their separation is at most `margin`: the report's tolerance θ
 //! between the rewind and the contact search, or a speculative distance.
@@ -742,8 +744,9 @@ fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
     let Some(main) = closest_contact(a, b, margin) else {
         return Vec::new();
     };
-    // Room for the extra points of both shapes and the closest pair, so that it never grows.
-    let mut extra = Vec::with_capacity(2 * MAX_MANIFOLD_POINTS + 1);
+    // Room for the extra points of both shapes, a cap's corners and the closest pair, so
+    // that it rarely grows.
+    let mut extra = Vec::with_capacity(2 * MAX_MANIFOLD_POINTS + CAP_POINTS + 1);
     for (k, point) in extra_points(a, main.normal).into_iter().enumerate() {
         extra.extend(point_contact(
             &point,
@@ -764,13 +767,32 @@ fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
             false,
         ));
     }
+    // The closest pair is the pair's depth: a cap point deeper than that (beyond the
+    // search's tolerance) is on a cap they do not touch by.
+    let size = a.shape.bounding_radius() + b.shape.bounding_radius();
+    let deepest_allowed = main.separation - 1e-6 * size;
+    extra.extend(cap_contacts(
+        a,
+        b,
+        main.normal,
+        margin,
+        deepest_allowed,
+        true,
+    ));
+    extra.extend(cap_contacts(
+        b,
+        a,
+        -main.normal,
+        margin,
+        deepest_allowed,
+        false,
+    ));
     // A lying shape touches along a line or patch whose ends are the extra points, and the
     // closest pair is just one point of it; otherwise the closest pair is deeper and stays.
     let deepest_extra = extra
         .iter()
         .map(|c| c.separation)
         .fold(f64::INFINITY, f64::min);
-    let size = a.shape.bounding_radius() + b.shape.bounding_radius();
     if extra.len() < 2 || main.separation < deepest_extra - 1e-9 * size {
         extra.retain(|c| c.position.distance(main.position) > 1e-6 * size);
         extra.insert(0, main);
@@ -860,6 +882,136 @@ fn extra_points(posed: &PosedShape, normal: DVec3) -> SurfacePoints {
                 .collect()
         }
         _ => SurfacePoints::new(),
+    }
+}
+
+/// Room for the corners of the patch where a cylinder's cap meets a polyhedron's face: the
+/// face's vertices inside the disc and its edges' crossings of the rim (a box face: 4 + 8).
+const CAP_POINTS: usize = 12;
+
+/// Tags a contact on a cylinder's cap (the other side names the polyhedron's feature).
+const CAP_TAG: u32 = 3 << 28;
+
+type CapContacts = SmallVec<[Contact; CAP_POINTS]>;
+
+/// Where a cylinder's cap faces a polyhedron: the polyhedron's face turned most against the
+/// cap, clipped to the cap's disc. The rim points of `extra_points` only sample the disc's
+/// edge, so a cap resting across a box's edge or corner had the box's corners under it
+/// unsupported but for the one deepest point: it tipped over them and sank up to 8 cm into
+/// the box in the rain scenes. The face's vertices inside the disc and its edges' crossings
+/// of the rim are the patch's other corners. `normal` points away from `cylinder`; points
+/// deeper than `deepest_allowed` are left out.
+fn cap_contacts(
+    cylinder: &PosedShape,
+    other: &PosedShape,
+    normal: DVec3,
+    margin: f64,
+    deepest_allowed: f64,
+    cylinder_is_a: bool,
+) -> CapContacts {
+    let mut found = CapContacts::new();
+    let Shape::Cylinder {
+        half_height,
+        radius,
+    } = *cylinder.shape
+    else {
+        return found;
+    };
+    let axis = cylinder.rotation * DVec3::Y;
+    let along = axis.dot(normal);
+    if along.abs() <= 1.0 - FLAT_COSINE {
+        return found;
+    }
+    let Some(polyhedron) = Polyhedron::of(other) else {
+        return found;
+    };
+    let cap_normal = axis * along.signum();
+    let cap = Disc {
+        center: cylinder.origin + cap_normal * half_height,
+        normal: cap_normal,
+        radius,
+    };
+    let Some(face) = (polyhedron.faces.iter()).min_by(|x, y| {
+        x.normal
+            .dot(cap_normal)
+            .total_cmp(&y.normal.dot(cap_normal))
+    }) else {
+        return found;
+    };
+    let mut keep = |point: DVec3, other_feature: u32| {
+        let separation = (point - cap.center).dot(cap_normal);
+        if separation > margin || separation < deepest_allowed {
+            return;
+        }
+        let (normal, on_a, on_b) = if cylinder_is_a {
+            (cap_normal, CAP_TAG, other_feature)
+        } else {
+            (-cap_normal, other_feature, CAP_TAG)
+        };
+        found.push(Contact {
+            position: point - cap_normal * (0.5 * separation),
+            normal,
+            separation,
+            kind: ContactKind::VertexFace,
+            feature: FeatureId { on_a, on_b },
+            time_of_impact: 0.0,
+        });
+    };
+    // Crossings are named by the edge's ends, masked to fit beside the tag: a hull of more
+    // than 8192 vertices may give two points one name, which only costs a warm start.
+    let corners = face.vertices;
+    for (k, &i) in corners.iter().enumerate() {
+        let p = polyhedron.vertices[i as usize];
+        if cap.holds(p) {
+            keep(p, VERTEX_TAG | i);
+        }
+        let j = corners[(k + 1) % corners.len()];
+        let q = polyhedron.vertices[j as usize];
+        for (root, t) in cap.rim_crossings(p, q).into_iter().enumerate() {
+            keep(
+                p + (q - p) * t,
+                EDGE_TAG | ((i & 0x3fff) << 14) | ((j & 0x1fff) << 1) | root as u32,
+            );
+        }
+    }
+    found
+}
+
+/// A cylinder's cap: the disc of `radius` about `center` in the plane of unit `normal`.
+struct Disc {
+    center: DVec3,
+    normal: DVec3,
+    radius: f64,
+}
+
+impl Disc {
+    /// The offset of `p` from the axis, within the cap's plane.
+    fn radial(&self, p: DVec3) -> DVec3 {
+        let relative = p - self.center;
+        relative - self.normal * relative.dot(self.normal)
+    }
+
+    /// Whether `p` lies within the cylinder's side, at any height.
+    fn holds(&self, p: DVec3) -> bool {
+        self.radial(p).length_squared() <= self.radius * self.radius
+    }
+
+    /// The fractions t in (0, 1) at which p + t (q − p) crosses the cylinder's side.
+    fn rim_crossings(&self, p: DVec3, q: DVec3) -> SmallVec<[f64; 2]> {
+        let (start, step) = (self.radial(p), self.radial(q) - self.radial(p));
+        // |start + t step|² = r²: a t² + 2 b t + c = 0.
+        let a = step.length_squared();
+        let b = start.dot(step);
+        let c = start.length_squared() - self.radius * self.radius;
+        let discriminant = b * b - a * c;
+        if a <= f64::MIN_POSITIVE || discriminant <= 0.0 {
+            return SmallVec::new();
+        }
+        let root = discriminant.sqrt();
+        [(-b - root) / a, (-b + root) / a]
+            .into_iter()
+            .filter(|t| *t > 0.0 && *t < 1.0)
+            .collect()
     }
 }
 
