@@ -14,9 +14,15 @@ if [ "$(wasm-bindgen --version 2>/dev/null | cut -d' ' -f2)" != "$wanted" ]; the
   cargo install wasm-bindgen-cli --version "$wanted"
 fi
 
-if [ ! -x /usr/bin/chromium ] || ! command -v node >/dev/null; then
+# Only what is missing: a machine whose node comes from elsewhere (NodeSource's bundles npm)
+# cannot also take Debian's npm, which conflicts with it.
+missing=()
+[ -x /usr/bin/chromium ] || missing+=(chromium)
+command -v node >/dev/null || missing+=(nodejs)
+command -v npm >/dev/null || missing+=(npm)
+if [ ${#missing[@]} -gt 0 ]; then
   apt-get update -q
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends chromium nodejs npm
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
 (cd tests/web && npm ci --no-audit --no-fund)
