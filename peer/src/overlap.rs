@@ -33,7 +33,7 @@ pub fn overlap<E: Engine>(engine: &E, scene: &SceneDesc) -> Overlap {
                 continue;
             }
             let reach = shapes[i].bounding_radius() + shapes[j].bounding_radius();
-            if engine.position(i).distance(engine.position(j)) > reach {
+            if posed[i].origin.distance(posed[j].origin) > reach {
                 continue;
             }
             let depth = -signed_distance(&posed[i], &posed[j]).distance;

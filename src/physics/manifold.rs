@@ -250,6 +250,15 @@ impl<'a> Polyhedron<'a> {
         })
     }
 
+    /// The face turned most against `normal`: the incident face for a reference face or
+    /// cap whose outward normal it is.
+    fn face_against(&self, normal: DVec3) -> &Polygon<'a> {
+        self.faces
+            .iter()
+            .min_by(|x, y| x.normal.dot(normal).total_cmp(&y.normal.dot(normal)))
+            .expect("a polyhedron has faces")
+    }
+
     fn support_value(&self, direction: DVec3) -> f64 {
         self.vertices
             .iter()
@@ -599,11 +608,7 @@ fn clip_contacts(
 ) -> Vec<Contact> {
     let ref_face = &reference.faces[face];
     let normal = ref_face.normal;
-    let incident_face = incident
-        .faces
-        .iter()
-        .min_by(|x, y| x.normal.dot(normal).total_cmp(&y.normal.dot(normal)))
-        .expect("a polyhedron has faces");
+    let incident_face = incident.face_against(normal);
     let mut polygon: ClipPolygon = incident_face
         .vertices
         .iter()
@@ -931,13 +936,7 @@ fn cap_contacts(
         normal: cap_normal,
         radius,
     };
-    let Some(face) = (polyhedron.faces.iter()).min_by(|x, y| {
-        x.normal
-            .dot(cap_normal)
-            .total_cmp(&y.normal.dot(cap_normal))
-    }) else {
-        return found;
-    };
+    let face = polyhedron.face_against(cap_normal);
     let mut keep = |point: DVec3, other_feature: u32| {
         let separation = (point - cap.center).dot(cap_normal);
         if separation > margin || separation < deepest_allowed {
