@@ -81,26 +81,22 @@ impl Default for SoftSolverSettings {
     }
 }
 
-/// One side of a prepared contact point: what an impulse does to that body. Kept as lanes
-/// (see `lanes`) so that the speeds along the three directions, and the three components of
-/// an impulse, are each computed at once.
+/// One side of a prepared contact point: where impulses act on that body.
 #[derive(Clone, Copy, Debug, Default)]
 struct Side {
-    slot: u32,
-    /// r × d for the normal and the two tangents (r the lever arm): the angular impulse of a
-    /// unit impulse along d, one vector per direction.
-    arm: [F64x4; 3],
-    /// I⁻¹ (r × d) with the world inertia at step start: the point's speed along d owes
-    /// A · I⁻¹(r × d) to the angular momentum A (as ω · (r × d) = d · (ω × r)). Transposed:
-    /// lane k of `spin[c]` is component c of direction k's vector.
-    spin: [F64x4; 3],
+    /// The lever arm r (contact point − centre of mass) in world axes, fixed for the step:
+    /// an impulse J there turns the body by r × J, and the point moves at v + ω × r.
+    lever: F64x4,
     /// The lever arm in body axes, or for a body that does not move in this step, the
     /// contact point in world axes: the separation follows the bodies as they turn.
     anchor: F64x4,
 }
 
-/// What `Side` holds, as plain vectors, while a contact is prepared.
+/// What a side's impulses do, as plain vectors, while a contact is prepared: for the
+/// normal and the two tangents d, the arm r × d and the spin I⁻¹ (r × d) that a unit
+/// impulse along d gives, with the world inertia at step start.
 struct SideGeometry {
+    lever: DVec3,
     arm: [DVec3; 3],
     spin: [DVec3; 3],
     anchor: DVec3,
@@ -122,6 +118,7 @@ impl SideGeometry {
             [DVec3::ZERO; 3]
         };
         SideGeometry {
+            lever,
             arm,
             spin,
             anchor: if moves {
@@ -141,35 +138,31 @@ impl SideGeometry {
         }
     }
 
-    fn into_lanes(self, slot: u32) -> Side {
+    fn into_lanes(self) -> Side {
         Side {
-            slot,
-            arm: F64x4::from_vec3s(self.arm),
-            spin: F64x4::transpose(self.spin),
+            lever: F64x4::from_vec3(self.lever),
             anchor: F64x4::from_vec3(self.anchor),
         }
     }
 }
 
 impl Side {
-    /// Speeds of the body's material point at the contact along the three directions
-    /// (lanes 0 to 2), given the directions transposed (`PointConstraint::across`).
+    /// Velocity of the body's material point at the contact, v + ω × r, both derived from
+    /// the momenta (ω = I⁻¹ A with the step's world inertia).
     #[inline(always)]
-    fn speeds(&self, bodies: &SharedBodies, across: &[F64x4; 3]) -> F64x4 {
-        let body = bodies.get(self.slot);
+    fn point_velocity(&self, body: &SolverBody) -> F64x4 {
         let [p, a] = [body.linear_momentum, body.angular_momentum];
-        let linear = across[0] * p.lane(0) + across[1] * p.lane(1) + across[2] * p.lane(2);
-        let angular =
-            self.spin[0] * a.lane(0) + self.spin[1] * a.lane(1) + self.spin[2] * a.lane(2);
-        linear * body.inv_mass + angular
+        let [x, y, z] = body.inv_inertia;
+        let spin = x * a.lane(0) + y * a.lane(1) + z * a.lane(2);
+        p * body.inv_mass + spin.cross(self.lever)
     }
 
     #[inline(always)]
-    fn anchor_in_world(&self, bodies: &SharedBodies) -> F64x4 {
-        if !moves(self.slot) {
+    fn anchor_in_world(&self, bodies: &SharedBodies, slot: u32) -> F64x4 {
+        if !moves(slot) {
             return self.anchor; // without reading the slot: this runs every pass
         }
-        let body = bodies.get(self.slot);
+        let body = bodies.get(slot);
         let [x, y, z] = body.orientation;
         let anchor = self.anchor;
         body.position + (x * anchor.lane(0) + y * anchor.lane(1) + z * anchor.lane(2))
@@ -189,6 +182,10 @@ fn moves(slot: u32) -> bool {
 /// tangents; the arms stay fixed for the step: impulses act where the bodies touch, not
 /// where that material point has rotated to (a rolling ball keeps pushing at its bottom).
 #[derive(Clone, Copy, Debug, Default)]
+///
+/// Kept small (what a pass reads of it is what it streams through memory): the speeds and
+/// the turning are derived in each pass from the levers and the bodies' momenta rather
+/// than stored per direction.
 struct PointConstraint {
     a: Side,
     b: Side,
@@ -197,6 +194,8 @@ struct PointConstraint {
     /// The same transposed (lane k of `across[c]` is component c of direction k), to take
     /// the speeds along all three at once.
     across: [F64x4; 3],
+    /// The solver slots of a and b.
+    slots: [u32; 2],
     /// Separation = normal · (world anchor b − world anchor a) + separation_offset.
     separation_offset: f64,
     /// The separation at the bodies' current poses. Poses only change between a substep's
@@ -238,35 +237,37 @@ impl PointConstraint {
     /// tangents.
     #[inline(always)]
     fn speeds(&self, bodies: &SharedBodies) -> [f64; 3] {
-        let speeds = self.b.speeds(bodies, &self.across) - self.a.speeds(bodies, &self.across);
+        let [slot_a, slot_b] = self.slots;
+        let relative =
+            self.b.point_velocity(bodies.get(slot_b)) - self.a.point_velocity(bodies.get(slot_a));
+        let [x, y, z] = self.across;
+        let speeds = x * relative.lane(0) + y * relative.lane(1) + z * relative.lane(2);
         [speeds.lane(0), speeds.lane(1), speeds.lane(2)]
     }
 
-    /// Impulses λ along the three directions: +Σ λ d to b, −Σ λ d to a, at their arms.
+    /// Impulses λ along the three directions: +Σ λ d to b, −Σ λ d to a, at their levers.
     #[inline(always)]
     fn apply(&self, bodies: &SharedBodies, lambda: [f64; 3]) {
-        self.push(bodies, |v| {
-            v[0] * lambda[0] + v[1] * lambda[1] + v[2] * lambda[2]
-        });
+        let [n, t1, t2] = self.directions;
+        self.push(bodies, n * lambda[0] + t1 * lambda[1] + t2 * lambda[2]);
     }
 
     /// A normal impulse only.
     fn apply_normal(&self, bodies: &SharedBodies, lambda: f64) {
-        self.push(bodies, |v| v[0] * lambda);
+        self.push(bodies, self.directions[0] * lambda);
     }
 
-    /// The impulse `along` the directions to b and its opposite to a; `along` combines the
-    /// three directions, and the same way their arms for the angular impulses.
+    /// The impulse J to b and −J to a, each at its lever.
     #[inline(always)]
-    fn push(&self, bodies: &SharedBodies, along: impl Fn(&[F64x4; 3]) -> F64x4) {
-        let linear = along(&self.directions);
-        bodies.add(self.a.slot, -linear, -along(&self.a.arm));
-        bodies.add(self.b.slot, linear, along(&self.b.arm));
+    fn push(&self, bodies: &SharedBodies, linear: F64x4) {
+        let [slot_a, slot_b] = self.slots;
+        bodies.add(slot_a, -linear, -self.a.lever.cross(linear));
+        bodies.add(slot_b, linear, self.b.lever.cross(linear));
     }
 
     /// The next point of the same manifold (or of one between the same two bodies).
     fn same_bodies(&self, other: &PointConstraint) -> bool {
-        self.a.slot == other.a.slot && self.b.slot == other.b.slot
+        self.slots == other.slots
     }
 }
 
@@ -469,10 +470,11 @@ fn prepare(
     PointConstraint {
         separation: normal.dot(anchor_b - anchor_a) + separation_offset,
         normal_to_tangent: normal_to_tangent(&side_a, &side_b, inv_masses, &directions),
-        a: side_a.into_lanes(slot_a),
-        b: side_b.into_lanes(slot_b),
+        a: side_a.into_lanes(),
+        b: side_b.into_lanes(),
         directions: F64x4::from_vec3s(directions),
         across: F64x4::transpose(directions),
+        slots: [slot_a, slot_b],
         separation_offset,
         normal_mass,
         tangent_mass: [tangent_1, tangent_2],
@@ -613,7 +615,11 @@ fn fastest_approach(speed: f64, acceleration: f64, contact: &ContactInput, dt: f
 /// Current separation: the anchors carried along by the bodies' motion in this step.
 #[inline(always)]
 fn current_separation(bodies: &SharedBodies, c: &PointConstraint) -> f64 {
-    let (anchor_a, anchor_b) = (c.a.anchor_in_world(bodies), c.b.anchor_in_world(bodies));
+    let [slot_a, slot_b] = c.slots;
+    let (anchor_a, anchor_b) = (
+        c.a.anchor_in_world(bodies, slot_a),
+        c.b.anchor_in_world(bodies, slot_b),
+    );
     (anchor_b - anchor_a).dot3(c.normal()) + c.separation_offset
 }
 

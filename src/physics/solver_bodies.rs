@@ -8,18 +8,22 @@
 
 use std::marker::PhantomData;
 
+use glam::DMat3;
+
 use crate::physics::body::RigidBody;
 use crate::physics::lanes::F64x4;
 
 /// The part of a body that a pass over the contacts reads and changes, as lanes (see
-/// `lanes`): the orientation by columns.
+/// `lanes`): matrices by columns. What every pass reads comes first.
 #[derive(Clone, Copy, Debug)]
 pub struct SolverBody {
     pub linear_momentum: F64x4,
     pub angular_momentum: F64x4,
+    /// The world inverse inertia at step start, as the contacts' effective masses have it.
+    pub inv_inertia: [F64x4; 3],
+    pub inv_mass: f64,
     pub position: F64x4,
     pub orientation: [F64x4; 3],
-    pub inv_mass: f64,
 }
 
 /// The slot that every body which does not move shares.
@@ -28,9 +32,10 @@ pub const FIXED_SLOT: u32 = 0;
 const FIXED: SolverBody = SolverBody {
     linear_momentum: F64x4::ZERO,
     angular_momentum: F64x4::ZERO,
+    inv_inertia: [F64x4::ZERO; 3],
+    inv_mass: 0.0,
     position: F64x4::ZERO,
     orientation: [F64x4::ZERO; 3],
-    inv_mass: 0.0,
 };
 
 /// Slots of the awake bodies, kept between steps so that no step allocates.
@@ -86,7 +91,7 @@ impl SolverBodies {
         for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
             let body = &bodies[index as usize];
             slot.position = F64x4::from_vec3(body.position);
-            slot.orientation = orientation_columns(body);
+            slot.orientation = columns(&body.orientation);
         }
     }
 
@@ -104,14 +109,15 @@ fn gathered(body: &RigidBody) -> SolverBody {
     SolverBody {
         linear_momentum: F64x4::from_vec3(body.linear_momentum),
         angular_momentum: F64x4::from_vec3(body.angular_momentum),
-        position: F64x4::from_vec3(body.position),
-        orientation: orientation_columns(body),
+        inv_inertia: columns(&body.inv_inertia_world),
         inv_mass: body.inv_mass,
+        position: F64x4::from_vec3(body.position),
+        orientation: columns(&body.orientation),
     }
 }
 
-fn orientation_columns(body: &RigidBody) -> [F64x4; 3] {
-    [0, 1, 2].map(|k| F64x4::from_vec3(body.orientation.col(k)))
+fn columns(matrix: &DMat3) -> [F64x4; 3] {
+    [0, 1, 2].map(|k| F64x4::from_vec3(matrix.col(k)))
 }
 
 /// The solver bodies, open to the contacts of one colour on several threads at once.
