@@ -181,40 +181,32 @@ fn moves(slot: u32) -> bool {
 /// One prepared contact point. Its directions are the normal (from a to b), then the two
 /// tangents; the arms stay fixed for the step: impulses act where the bodies touch, not
 /// where that material point has rotated to (a rolling ball keeps pushing at its bottom).
-#[derive(Clone, Copy, Debug, Default)]
 ///
-/// Kept small (what a pass reads of it is what it streams through memory): the speeds and
-/// the turning are derived in each pass from the levers and the bodies' momenta rather
-/// than stored per direction.
+/// Kept small (a pass streams the constraints through memory): the speeds and the turning
+/// are derived in each pass from the levers and the bodies' momenta rather than stored per
+/// direction. The fields are laid out in the order a pass reads them, so that the
+/// processor's prefetcher sees one forward stream.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C)]
 struct PointConstraint {
-    a: Side,
-    b: Side,
-    /// The normal and the tangents, each as a vector: the impulses' directions.
-    directions: [F64x4; 3],
-    /// The same transposed (lane k of `across[c]` is component c of direction k), to take
-    /// the speeds along all three at once.
-    across: [F64x4; 3],
     /// The solver slots of a and b.
     slots: [u32; 2],
-    /// Separation = normal · (world anchor b − world anchor a) + separation_offset.
-    separation_offset: f64,
+    impulse: WarmImpulse,
     /// The separation at the bodies' current poses. Poses only change between a substep's
     /// biased pass and its relax pass, so the relax pass measures it and the next
     /// substep's biased pass and the restitution pass read it.
     separation: f64,
+    normal_mass: f64,
+    tangent_mass: [f64; 2],
     /// What a unit normal impulse adds to the relative speed along each tangent (zero for
     /// point masses; the lever arms couple them). The friction solve after the normal
     /// solve reads the tangent speeds through it instead of from the bodies again, so that
     /// each contact reads and writes its two bodies once per pass.
     normal_to_tangent: [f64; 2],
-    normal_mass: f64,
-    tangent_mass: [f64; 2],
-    impulse: WarmImpulse,
+    friction: f64,
     max_normal_impulse: f64,
-    /// Normal relative velocity at impact, as the speed of the discrete arc (see
-    /// `rebound_speed`); before the step until the contact first pushes. What restitution
-    /// reflects.
-    approach_speed: f64,
+    /// Relative normal acceleration from the environmental forces, for the impact speed.
+    approach_acceleration: f64,
     /// The fastest approach the pair can reach in this step on its own (`fastest_approach`).
     /// A neighbour solved
     /// earlier in the same pass can push the bodies together faster; that momentum is the
@@ -222,10 +214,20 @@ struct PointConstraint {
     /// pressed onto a pin by another gained 6 % of its energy in one step when the
     /// ball–ball contact happened to be solved first).
     fastest_approach: f64,
-    /// Relative normal acceleration from the environmental forces, for the impact speed.
-    approach_acceleration: f64,
-    friction: f64,
+    /// Normal relative velocity at impact, as the speed of the discrete arc (see
+    /// `rebound_speed`); before the step until the contact first pushes. What restitution
+    /// reflects.
+    approach_speed: f64,
     restitution: f64,
+    /// Separation = normal · (world anchor b − world anchor a) + separation_offset.
+    separation_offset: f64,
+    /// The same transposed (lane k of `across[c]` is component c of direction k), to take
+    /// the speeds along all three at once.
+    across: [F64x4; 3],
+    a: Side,
+    b: Side,
+    /// The normal and the tangents, each as a vector: the impulses' directions.
+    directions: [F64x4; 3],
 }
 
 impl PointConstraint {
@@ -263,6 +265,17 @@ impl PointConstraint {
         let [slot_a, slot_b] = self.slots;
         bodies.add(slot_a, -linear, -self.a.lever.cross(linear));
         bodies.add(slot_b, linear, self.b.lever.cross(linear));
+    }
+
+    /// Adds the impulse the contact holds to its bodies' next warm start.
+    #[inline(always)]
+    fn add_to_warm_start(&self, bodies: &SharedBodies) {
+        let [n, t1, t2] = self.directions;
+        let [tangent_1, tangent_2] = self.impulse.tangent;
+        let linear = n * self.impulse.normal + t1 * tangent_1 + t2 * tangent_2;
+        let [slot_a, slot_b] = self.slots;
+        bodies.add_warm_start(slot_a, -linear, -self.a.lever.cross(linear));
+        bodies.add_warm_start(slot_b, linear, self.b.lever.cross(linear));
     }
 
     /// The next point of the same manifold (or of one between the same two bodies).
@@ -364,6 +377,10 @@ pub fn step(
     for (constraint, &k) in constraints.iter_mut().zip(&colors.order) {
         *constraint = prepare(bodies, slots, &contacts[k as usize], accelerations, ctx.dt);
     }
+    let shared = SharedBodies::new(&mut slots.slots);
+    for constraint in constraints.iter() {
+        constraint.add_to_warm_start(&shared);
+    }
     let substeps = ctx.settings.substeps.max(1);
     let h = ctx.dt / substeps as f64;
     let hertz = ctx
@@ -379,7 +396,7 @@ pub fn step(
             .map(|&i| (bodies[i as usize].force, bodies[i as usize].torque)),
     );
     let mut integrate_seconds = 0.0;
-    for _ in 0..substeps {
+    for substep in 0..substeps {
         let mut clock = Stopwatch::start();
         for (&index, &(force, torque)) in awake.iter().zip(user_forces.iter()) {
             let body = &mut bodies[index as usize];
@@ -394,7 +411,7 @@ pub fn step(
             softness,
             max_push_out: ctx.settings.max_push_out,
         };
-        for_each_contact(&mut slots.slots, constraints, colors, Pass::WarmStart, h);
+        slots.warm_start();
         for_each_contact(&mut slots.slots, constraints, colors, biased, h);
         slots.scatter(bodies);
         clock.lap();
@@ -403,7 +420,10 @@ pub fn step(
         }
         integrate_seconds += clock.lap();
         slots.refresh_poses(bodies);
-        for_each_contact(&mut slots.slots, constraints, colors, Pass::Relax, h);
+        let relax = Pass::Relax {
+            warm_start_next: substep + 1 < substeps,
+        };
+        for_each_contact(&mut slots.slots, constraints, colors, relax, h);
         slots.scatter(bodies);
     }
     // One pass, in contact order rather than colour order, on one thread. A body bouncing
@@ -519,18 +539,24 @@ fn normal_to_tangent(
 const PARALLEL_MIN_CONTACTS: usize = 128;
 
 /// One pass of a substep over the contacts.
+///
+/// Each substep starts by applying the impulses the contacts hold (the warm start). That
+/// needs no pass of its own: a contact's impulse is final once the relax pass has solved
+/// it, so the relax pass adds it to its bodies' warm start for the next substep
+/// (`SolverBodies::warm_start`), and `step` does the same for the first from the
+/// impulses remembered from the last step. A pass over the contacts streams them all
+/// through memory; a pass over the bodies is far smaller.
 #[derive(Clone, Copy)]
 enum Pass {
-    /// Applies the impulses the contacts hold.
-    WarmStart,
     /// Solves with the soft position bias.
     Biased {
         softness: Softness,
         max_push_out: f64,
     },
     /// Measures the separations at the poses the substep moved to, then solves without
-    /// bias, removing the velocity the bias added.
-    Relax,
+    /// bias, removing the velocity the bias added; and when another substep follows,
+    /// gathers each contact's impulse for its warm start.
+    Relax { warm_start_next: bool },
 }
 
 /// Runs `pass` on every contact, colour by colour (see `contact_colors`). A colour large
@@ -561,16 +587,16 @@ fn for_each_contact(
 /// where the processor has AVX and two otherwise. Both compute the same bits.
 fn run_pass(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
-        // SAFETY: the processor has AVX, as just checked.
-        return unsafe { run_pass_avx(pass, bodies, contacts, h) };
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2, as just checked.
+        return unsafe { run_pass_avx2(pass, bodies, contacts, h) };
     }
     run_pass_inline(pass, bodies, contacts, h);
 }
 
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-fn run_pass_avx(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
+#[target_feature(enable = "avx2")]
+fn run_pass_avx2(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
     run_pass_inline(pass, bodies, contacts, h);
 }
 
@@ -580,11 +606,6 @@ fn run_pass_inline(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConst
     // Plain loops: an iterator adaptor's closure may be left out of line, and would then be
     // compiled without the variant's instructions.
     match pass {
-        Pass::WarmStart => {
-            for c in contacts {
-                warm_start(bodies, c);
-            }
-        }
         Pass::Biased {
             softness,
             max_push_out,
@@ -593,10 +614,13 @@ fn run_pass_inline(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConst
                 solve(bodies, c, h, Some((softness, max_push_out)));
             }
         }
-        Pass::Relax => {
+        Pass::Relax { warm_start_next } => {
             for c in contacts {
                 c.separation = current_separation(bodies, c);
                 solve(bodies, c, h, None);
+                if warm_start_next {
+                    c.add_to_warm_start(bodies);
+                }
             }
         }
     }
@@ -621,12 +645,6 @@ fn current_separation(bodies: &SharedBodies, c: &PointConstraint) -> f64 {
         c.b.anchor_in_world(bodies, slot_b),
     );
     (anchor_b - anchor_a).dot3(c.normal()) + c.separation_offset
-}
-
-#[inline(always)]
-fn warm_start(bodies: &SharedBodies, c: &mut PointConstraint) {
-    let [t1, t2] = c.impulse.tangent;
-    c.apply(bodies, [c.impulse.normal, t1, t2]);
 }
 
 /// One contact's share of a pass: normal (soft or rigid) then friction, applied together.
@@ -805,15 +823,16 @@ mod tests {
     #[test]
     fn packed_and_unpacked_passes_compute_the_same_bits() {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
+        if std::arch::is_x86_feature_detected!("avx2") {
             let softness = Softness::new(60.0, 10.0, 1.0 / 480.0);
             let passes = [
-                Pass::WarmStart,
                 Pass::Biased {
                     softness,
                     max_push_out: 3.0,
                 },
-                Pass::Relax,
+                Pass::Relax {
+                    warm_start_next: true,
+                },
             ];
             let (_, mut slots_inline, mut inline) = scene();
             let (_, mut slots_packed, mut packed) = scene();
@@ -825,9 +844,9 @@ mod tests {
                     &mut inline,
                     h,
                 );
-                // SAFETY: the processor has AVX, as checked above.
+                // SAFETY: the processor has AVX2, as checked above.
                 unsafe {
-                    run_pass_avx(
+                    run_pass_avx2(
                         pass,
                         &SharedBodies::new(&mut slots_packed.slots),
                         &mut packed,
@@ -838,6 +857,7 @@ mod tests {
             for (x, y) in slots_inline.slots.iter().zip(&slots_packed.slots) {
                 assert_eq!(x.linear_momentum, y.linear_momentum);
                 assert_eq!(x.angular_momentum, y.angular_momentum);
+                assert_eq!(x.warm_start, y.warm_start);
             }
             for (x, y) in inline.iter().zip(&packed) {
                 assert_eq!((x.impulse, x.separation), (y.impulse, y.separation));

@@ -24,6 +24,8 @@ pub struct SolverBody {
     pub inv_mass: f64,
     pub position: F64x4,
     pub orientation: [F64x4; 3],
+    /// The linear and angular impulse the body's contacts give it at the next warm start.
+    pub warm_start: [F64x4; 2],
 }
 
 /// The slot that every body which does not move shares.
@@ -36,6 +38,7 @@ const FIXED: SolverBody = SolverBody {
     inv_mass: 0.0,
     position: F64x4::ZERO,
     orientation: [F64x4::ZERO; 3],
+    warm_start: [F64x4::ZERO; 2],
 };
 
 /// Slots of the awake bodies, kept between steps so that no step allocates.
@@ -95,6 +98,16 @@ impl SolverBodies {
         }
     }
 
+    /// Applies the impulses gathered for the warm start (`SharedBodies::add_warm_start`) and
+    /// starts gathering anew.
+    pub fn warm_start(&mut self) {
+        for slot in &mut self.slots[1..] {
+            let [linear, angular] = std::mem::take(&mut slot.warm_start);
+            slot.linear_momentum += linear;
+            slot.angular_momentum += angular;
+        }
+    }
+
     /// Writes the momenta the contacts changed back to the bodies.
     pub fn scatter(&self, bodies: &mut [RigidBody]) {
         for (slot, &index) in self.slots[1..].iter().zip(&self.awake) {
@@ -113,6 +126,7 @@ fn gathered(body: &RigidBody) -> SolverBody {
         inv_mass: body.inv_mass,
         position: F64x4::from_vec3(body.position),
         orientation: columns(&body.orientation),
+        warm_start: [F64x4::ZERO; 2],
     }
 }
 
@@ -165,5 +179,18 @@ impl<'a> SharedBodies<'a> {
         let body = unsafe { &mut *self.slots.add(slot as usize) };
         body.linear_momentum += linear;
         body.angular_momentum += angular;
+    }
+
+    /// Adds to a moving body's next warm start (see `add`).
+    #[inline(always)]
+    pub fn add_warm_start(&self, slot: u32, linear: F64x4, angular: F64x4) {
+        if slot == FIXED_SLOT {
+            return;
+        }
+        assert!((slot as usize) < self.len, "slot {slot} out of range");
+        // SAFETY: as in `add`.
+        let body = unsafe { &mut *self.slots.add(slot as usize) };
+        body.warm_start[0] += linear;
+        body.warm_start[1] += angular;
     }
 }
