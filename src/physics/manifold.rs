@@ -16,7 +16,6 @@
 //! between the rewind and the contact search, or a speculative distance.
 
 use std::borrow::Cow;
-use std::sync::LazyLock;
 
 use glam::DVec3;
 use smallvec::SmallVec;
@@ -27,6 +26,7 @@ use crate::physics::contact::{
 };
 use crate::physics::epa::signed_distance_within;
 use crate::physics::gjk::{PosedShape, SupportMap};
+use crate::physics::hull::ConvexHull;
 use crate::physics::segment::closest_points_of_segments;
 use crate::physics::shape::Shape;
 
@@ -60,8 +60,14 @@ pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Con
         convex_contacts(a, b, margin)
     };
     contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
-    reduce_by_area(contacts)
+    reduce_by_area(&mut contacts);
+    // Copied out as a slice: `into_vec` would move them out one by one.
+    contacts.to_vec()
 }
+
+/// The contacts of one pair before they are reduced: held inline up to a box face clipped
+/// by a box face, so that a pair allocates once, for the contacts it returns.
+type Contacts = SmallVec<[Contact; 8]>;
 
 /// Part k's feature ids are marked with k + 1 in bits 20 to 27, so parts never share ids.
 fn part_contacts(
@@ -69,8 +75,8 @@ fn part_contacts(
     other: &PosedShape,
     margin: f64,
     parts_are_a: bool,
-) -> Vec<Contact> {
-    let mut contacts = Vec::new();
+) -> Contacts {
+    let mut contacts = Contacts::new();
     for (k, part) in parts.iter().enumerate() {
         let tag = ((k as u32 + 1) & 0xff) << 20;
         let found = if parts_are_a {
@@ -90,18 +96,19 @@ fn part_contacts(
     contacts
 }
 
-fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
+fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
     let polyhedral =
         |posed: &PosedShape| matches!(posed.shape, Shape::Cuboid { .. } | Shape::ConvexHull(_));
     // Both are checked before either is built: a box against a cylinder builds nothing.
-    // The polyhedra stay where they are built (no pairing into an Option): they are large.
+    // The polyhedra are matched by reference where they are built: they are large, and
+    // moving them out of the pair would copy them.
     let mut contacts = if polyhedral(a) && polyhedral(b) {
-        match (Polyhedron::of(a), Polyhedron::of(b)) {
-            (Some(pa), Some(pb)) => polyhedron_contacts(&pa, &pb, margin),
-            _ => round_contacts(a, b, margin),
+        match (&Polyhedron::of(a), &Polyhedron::of(b)) {
+            (Some(pa), Some(pb)) => polyhedron_contacts(pa, pb, margin),
+            _ => Contacts::from_vec(round_contacts(a, b, margin)),
         }
     } else {
-        round_contacts(a, b, margin)
+        Contacts::from_vec(round_contacts(a, b, margin))
     };
     if contacts.is_empty() {
         // Clipping can cut away a whole incident face when a face axis was preferred over a
@@ -139,6 +146,16 @@ struct BoxFrame {
     half_extents: DVec3,
 }
 
+impl BoxFrame {
+    /// How far the box reaches from its centre along `direction`, times the length of
+    /// `direction`: Σⱼ hⱼ |vⱼ · direction|.
+    fn reach(&self, direction: DVec3) -> f64 {
+        (0..3)
+            .map(|j| self.half_extents[j] * direction.dot(self.axes[j]).abs())
+            .sum()
+    }
+}
+
 #[derive(Clone)]
 struct Polygon<'a> {
     vertices: &'a [u32],
@@ -170,93 +187,102 @@ const BOX_EDGES: [[u32; 2]; 12] = [
     [3, 7],
 ];
 
-/// The faces at each edge of every box: the same table for all of them.
-static BOX_EDGE_FACES: LazyLock<Vec<Option<[usize; 2]>>> = LazyLock::new(|| {
-    faces_at_edges(
-        BOX_FACES.iter().map(|(loop_, _)| loop_.as_slice()),
-        &BOX_EDGES,
-    )
-});
+/// The faces at each edge of every box, as `faces_at_edges` finds them (a test checks):
+/// written out rather than computed once on first use, which costs a check at every use.
+static BOX_EDGE_FACES: [Option<[usize; 2]>; 12] = [
+    Some([2, 4]),
+    Some([3, 4]),
+    Some([2, 5]),
+    Some([3, 5]),
+    Some([0, 4]),
+    Some([1, 4]),
+    Some([0, 5]),
+    Some([1, 5]),
+    Some([0, 2]),
+    Some([1, 2]),
+    Some([0, 3]),
+    Some([1, 3]),
+];
 
 impl<'a> Polyhedron<'a> {
     fn of(posed: &PosedShape<'a>) -> Option<Polyhedron<'a>> {
-        let to_world = |p: DVec3| posed.to_world(p);
-        let face = |indices: &'a [u32], local_normal: DVec3, vertices: &[DVec3]| {
-            let normal = posed.rotation * local_normal;
-            Polygon {
-                offset: normal.dot(vertices[indices[0] as usize]),
-                vertices: indices,
-                normal,
+        match posed.shape {
+            Shape::Cuboid { half_extents } => Some(Polyhedron::of_box(posed, *half_extents)),
+            Shape::ConvexHull(hull) => Some(Polyhedron::of_hull(posed, hull)),
+            _ => None,
+        }
+    }
+
+    /// Built straight into its place, without a tuple of parts in between: the structure
+    /// is large, and each move of it is a copy.
+    fn of_box(posed: &PosedShape<'a>, half_extents: DVec3) -> Polyhedron<'a> {
+        // Corner i is at (±x, ±y, ±z), bit k of i choosing the sign along axis k. Negating
+        // a product is exact, so scaling the axes once and adding them with their signs
+        // gives the same bits as `posed.to_world` of each corner.
+        let scaled = [0, 1, 2].map(|k| posed.rotation.col(k) * half_extents[k]);
+        let signed = |i: u32, k: usize| {
+            if i & (1 << k) == 0 {
+                -scaled[k]
+            } else {
+                scaled[k]
             }
         };
-        type Vertices = SmallVec<[DVec3; 8]>;
-        let (vertices, faces, edges, edge_faces): (Vertices, SmallVec<[Polygon; 6]>, _, _) =
-            match posed.shape {
-                Shape::Cuboid { half_extents } => {
-                    // Whole arrays: collecting pushes one at a time, through an extend the
-                    // compiler may leave out of line.
-                    let corner = |i: u32| to_world(box_corner(*half_extents, i));
-                    let vertices = Vertices::from_buf([
-                        corner(0),
-                        corner(1),
-                        corner(2),
-                        corner(3),
-                        corner(4),
-                        corner(5),
-                        corner(6),
-                        corner(7),
-                    ]);
-                    let box_face = |k: usize| face(&BOX_FACES[k].0, BOX_FACES[k].1, &vertices);
-                    let faces = SmallVec::from_buf([
-                        box_face(0),
-                        box_face(1),
-                        box_face(2),
-                        box_face(3),
-                        box_face(4),
-                        box_face(5),
-                    ]);
-                    let edge_faces = Cow::Borrowed(BOX_EDGE_FACES.as_slice());
-                    (vertices, faces, BOX_EDGES.as_slice(), edge_faces)
-                }
-                Shape::ConvexHull(hull) => {
-                    let vertices: Vertices = hull.vertices.iter().map(|&p| to_world(p)).collect();
-                    let faces = hull
-                        .faces
-                        .iter()
-                        .map(|f| face(&f.vertices, f.normal, &vertices))
-                        .collect();
-                    let loops = hull.faces.iter().map(|f| f.vertices.as_slice());
-                    let edge_faces = Cow::Owned(faces_at_edges(loops, &hull.edges));
-                    (vertices, faces, hull.edges.as_slice(), edge_faces)
-                }
-                _ => return None,
-            };
-        let centroid = vertices.iter().sum::<DVec3>() / vertices.len() as f64;
-        let box_frame = match *posed.shape {
-            Shape::Cuboid { half_extents } => Some(BoxFrame {
+        let corner = |i: u32| posed.origin + (signed(i, 0) + signed(i, 1) + signed(i, 2));
+        // Whole arrays: collecting pushes one at a time, through an extend the compiler may
+        // leave out of line.
+        let vertices = SmallVec::from_buf([
+            corner(0),
+            corner(1),
+            corner(2),
+            corner(3),
+            corner(4),
+            corner(5),
+            corner(6),
+            corner(7),
+        ]);
+        let face = |k: usize| face_of(posed, &BOX_FACES[k].0, BOX_FACES[k].1, &vertices);
+        Polyhedron {
+            faces: SmallVec::from_buf([face(0), face(1), face(2), face(3), face(4), face(5)]),
+            edges: BOX_EDGES.as_slice(),
+            edge_faces: Cow::Borrowed(BOX_EDGE_FACES.as_slice()),
+            centroid: centroid(&vertices),
+            box_frame: Some(BoxFrame {
                 center: posed.origin,
                 axes: [0, 1, 2].map(|k| posed.rotation.col(k)),
                 half_extents,
             }),
-            _ => None,
-        };
-        Some(Polyhedron {
             vertices,
-            faces,
-            edges,
-            edge_faces,
-            centroid,
-            box_frame,
-        })
+        }
+    }
+
+    fn of_hull(posed: &PosedShape<'a>, hull: &'a ConvexHull) -> Polyhedron<'a> {
+        let vertices: SmallVec<[DVec3; 8]> =
+            hull.vertices.iter().map(|&p| posed.to_world(p)).collect();
+        let loops = hull.faces.iter().map(|f| f.vertices.as_slice());
+        Polyhedron {
+            faces: hull
+                .faces
+                .iter()
+                .map(|f| face_of(posed, &f.vertices, f.normal, &vertices))
+                .collect(),
+            edges: hull.edges.as_slice(),
+            edge_faces: Cow::Owned(faces_at_edges(loops, &hull.edges)),
+            centroid: centroid(&vertices),
+            box_frame: None,
+            vertices,
+        }
     }
 
     /// The face turned most against `normal`: the incident face for a reference face or
     /// cap whose outward normal it is.
     fn face_against(&self, normal: DVec3) -> &Polygon<'a> {
+        // Each face's dot product is taken once, not at every comparison.
         self.faces
             .iter()
-            .min_by(|x, y| x.normal.dot(normal).total_cmp(&y.normal.dot(normal)))
+            .map(|f| (f, f.normal.dot(normal)))
+            .min_by(|x, y| x.1.total_cmp(&y.1))
             .expect("a polyhedron has faces")
+            .0
     }
 
     fn support_value(&self, direction: DVec3) -> f64 {
@@ -272,6 +298,25 @@ impl<'a> Polyhedron<'a> {
             .map(|v| v.distance(self.centroid))
             .fold(0.0, f64::max)
     }
+}
+
+/// Face `indices` of a shape placed by `posed`, its world `vertices` already placed.
+fn face_of<'a>(
+    posed: &PosedShape,
+    indices: &'a [u32],
+    local_normal: DVec3,
+    vertices: &[DVec3],
+) -> Polygon<'a> {
+    let normal = posed.rotation * local_normal;
+    Polygon {
+        offset: normal.dot(vertices[indices[0] as usize]),
+        vertices: indices,
+        normal,
+    }
+}
+
+fn centroid(vertices: &[DVec3]) -> DVec3 {
+    vertices.iter().sum::<DVec3>() / vertices.len() as f64
 }
 
 /// For each edge, the two faces whose loops (vertex indices) run along it (one each way).
@@ -301,11 +346,6 @@ fn faces_at_edges<'f>(
             }
         })
         .collect()
-}
-
-fn box_corner(h: DVec3, i: u32) -> DVec3 {
-    let sign = |bit: u32| if i & bit == 0 { -1.0 } else { 1.0 };
-    DVec3::new(sign(1) * h.x, sign(2) * h.y, sign(4) * h.z)
 }
 
 /// The best axis found by the separating-axis test.
@@ -339,24 +379,26 @@ impl Axis {
 /// choice does not flicker between nearly equal axes from one step to the next.
 const AXIS_PREFERENCE: f64 = 1e-3;
 
-fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64) -> Vec<Contact> {
+fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64) -> Contacts {
     let slop = AXIS_PREFERENCE * a.size().min(b.size());
     let face_a = best_face_axis(a, b, true);
     if face_a.separation() > margin {
-        return Vec::new();
+        return Contacts::new();
     }
     let face_b = best_face_axis(b, a, false);
     if face_b.separation() > margin {
-        return Vec::new();
+        return Contacts::new();
     }
     let mut best = if face_b.separation() > face_a.separation() + slop {
         face_b
     } else {
         face_a
     };
-    if let Some(edges) = best_edge_axis(a, b) {
+    // An edge pair no farther apart than this neither separates the shapes nor beats `best`.
+    let floor = margin.min(best.separation() + slop);
+    if let Some(edges) = best_edge_axis(a, b, floor) {
         if edges.separation() > margin {
-            return Vec::new();
+            return Contacts::new();
         }
         if edges.separation() > best.separation() + slop {
             best = edges;
@@ -374,9 +416,7 @@ fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64) -> Vec<Conta
             edge_b,
             axis,
             separation,
-        } => {
-            vec![edge_contact(a, edge_a, b, edge_b, axis, separation)]
-        }
+        } => Contacts::from_elem(edge_contact(a, edge_a, b, edge_b, axis, separation), 1),
     }
 }
 
@@ -409,10 +449,7 @@ fn best_box_face_axis(owner: &BoxFrame, other: &BoxFrame, of_a: bool) -> Axis {
     let mut best = (0, f64::NEG_INFINITY);
     for (k, u) in owner.axes.iter().enumerate() {
         let along = u.dot(between);
-        let reach: f64 = (0..3)
-            .map(|j| other.half_extents[j] * u.dot(other.axes[j]).abs())
-            .sum();
-        let separation = along.abs() - owner.half_extents[k] - reach;
+        let separation = along.abs() - owner.half_extents[k] - other.reach(*u);
         let face = 2 * k + usize::from(along >= 0.0);
         if separation >= best.1 {
             best = (face, separation);
@@ -433,9 +470,12 @@ fn best_box_face_axis(owner: &BoxFrame, other: &BoxFrame, of_a: bool) -> Axis {
 /// the two faces at an edge of A span an arc, those at an edge of B (negated) another, and
 /// the edges support the same axis exactly when the arcs cross (they make a face of the
 /// Minkowski difference). That keeps the test O(edges²) instead of O(edges² · vertices).
-fn best_edge_axis(a: &Polyhedron, b: &Polyhedron) -> Option<Axis> {
+///
+/// Pairs that are surely no farther apart than `floor` may be left out (the box shortcut
+/// does), so only a result above `floor` is sure to be the best pair.
+fn best_edge_axis(a: &Polyhedron, b: &Polyhedron, floor: f64) -> Option<Axis> {
     if let (Some(frame_a), Some(frame_b)) = (a.box_frame, b.box_frame) {
-        return best_box_edge_axis(a, frame_a.axes, b, frame_b.axes);
+        return best_box_edge_axis(a, &frame_a, b, &frame_b, floor);
     }
     let mut best: Option<Axis> = None;
     for i in 0..a.edges.len() {
@@ -463,23 +503,35 @@ fn best_edge_axis(a: &Polyhedron, b: &Polyhedron) -> Option<Axis> {
 /// are tried instead of 144 edge pairs, and the chosen pair is measured as the general
 /// loop measures it. Directions with a face of either box square to the axis are skipped:
 /// there the supporting feature is a face, and the face axes cover it.
+///
+/// Most pairs are far from deciding anything: before a pair is measured from its corners,
+/// its separation is estimated from the boxes' reaches along the axis, and a pair is left
+/// out when even that estimate, raised by far more than its round-off, is below `floor`.
 fn best_box_edge_axis(
     a: &Polyhedron,
-    axes_a: [DVec3; 3],
+    frame_a: &BoxFrame,
     b: &Polyhedron,
-    axes_b: [DVec3; 3],
+    frame_b: &BoxFrame,
+    floor: f64,
 ) -> Option<Axis> {
     let between = b.centroid - a.centroid;
+    let slack = edge_estimate_slack(frame_a, frame_b);
     let mut best: Option<Axis> = None;
-    for (i, u) in axes_a.iter().enumerate() {
-        for (j, v) in axes_b.iter().enumerate() {
+    for (i, u) in frame_a.axes.iter().enumerate() {
+        for (j, v) in frame_b.axes.iter().enumerate() {
             let mut axis = u.cross(*v);
-            if axis.dot(between) < 0.0 {
+            let along = axis.dot(between);
+            if along < 0.0 {
                 axis = -axis;
             }
+            // The separation along the axis times its length (the axis is not normalised).
+            let estimate = along.abs() - frame_a.reach(axis) - frame_b.reach(axis);
+            if estimate + slack < floor * axis.length() {
+                continue;
+            }
             let (Some(edge_a), Some(edge_b)) = (
-                supporting_box_edge(&axes_a, i, axis),
-                supporting_box_edge(&axes_b, j, -axis),
+                supporting_box_edge(&frame_a.axes, i, axis),
+                supporting_box_edge(&frame_b.axes, j, -axis),
             ) else {
                 continue;
             };
@@ -487,6 +539,21 @@ fn best_box_edge_axis(
         }
     }
     best
+}
+
+/// How far the estimate of `best_box_edge_axis` (times the axis length) may be below the
+/// separation measured from the corners, with a wide safety factor. The measure takes its
+/// edge directions from corners rounded at their distance from the origin, so a short edge
+/// far out is the least certain: relative round-off of order 1e-16 times (distance / edge
+/// length), against 1e-9 here.
+fn edge_estimate_slack(a: &BoxFrame, b: &BoxFrame) -> f64 {
+    let extent = a.half_extents.element_sum() + b.half_extents.element_sum();
+    let far = a.center.length() + b.center.length() + extent;
+    let shortest = a
+        .half_extents
+        .min_element()
+        .min(b.half_extents.min_element());
+    1e-9 * far * (1.0 + far / shortest)
 }
 
 /// The edge along axis `along` of a box farthest out along `direction`, as an index into
@@ -605,61 +672,60 @@ fn clip_contacts(
     incident: &Polyhedron,
     reference_is_a: bool,
     margin: f64,
-) -> Vec<Contact> {
+) -> Contacts {
     let ref_face = &reference.faces[face];
     let normal = ref_face.normal;
     let incident_face = incident.face_against(normal);
-    let mut polygon: ClipPolygon = incident_face
-        .vertices
-        .iter()
-        .map(|&i| ClipPoint {
+    // Pushed one by one rather than collected: collecting goes through an out-of-line
+    // extend, and moves the built polygon into place.
+    let mut polygon = ClipPolygon::new();
+    for &i in incident_face.vertices {
+        polygon.push(ClipPoint {
             position: incident.vertices[i as usize],
             incident_feature: VERTEX_TAG | i,
             reference_feature: face as u32,
             kind: ContactKind::VertexFace,
-        })
-        .collect();
-    let corners: SmallVec<[DVec3; 8]> = ref_face
-        .vertices
-        .iter()
-        .map(|&i| reference.vertices[i as usize])
-        .collect();
-    let center = corners.iter().sum::<DVec3>() / corners.len() as f64;
-    // Each side clips from one buffer into the other, so no polygon is copied.
+        });
+    }
+    let sides = ref_face.vertices.len();
+    let corner = |k: usize| reference.vertices[ref_face.vertices[k] as usize];
+    let center = (0..sides).map(corner).sum::<DVec3>() / sides as f64;
+    // Each side clips from one buffer into the other; swapping the references, not the
+    // buffers, so no polygon is copied.
     let mut clipped = ClipPolygon::new();
-    for (side, &start) in corners.iter().enumerate() {
-        let end = corners[(side + 1) % corners.len()];
+    let (mut from, mut to) = (&mut polygon, &mut clipped);
+    for side in 0..sides {
+        let (start, end) = (corner(side), corner((side + 1) % sides));
         let mut plane = (end - start).cross(normal).normalize_or_zero();
         if plane.dot(start - center) < 0.0 {
             plane = -plane;
         }
         let tag = EDGE_TAG | ((face as u32) << 8) | side as u32;
-        clip_polygon(&polygon, plane, plane.dot(start), tag, &mut clipped);
-        std::mem::swap(&mut polygon, &mut clipped);
+        clip_polygon(from, plane, plane.dot(start), tag, to);
+        std::mem::swap(&mut from, &mut to);
     }
     let sign = if reference_is_a { 1.0 } else { -1.0 };
-    polygon
-        .iter()
-        .filter_map(|p| {
-            let separation = normal.dot(p.position) - ref_face.offset;
-            (separation <= margin).then(|| {
-                let (on_ref, on_inc) = (p.reference_feature, p.incident_feature);
-                let (on_a, on_b) = if reference_is_a {
-                    (on_ref, on_inc)
-                } else {
-                    (on_inc, on_ref)
-                };
-                Contact {
-                    position: p.position - normal * (0.5 * separation),
-                    normal: normal * sign,
-                    separation,
-                    kind: p.kind,
-                    feature: FeatureId { on_a, on_b },
-                    time_of_impact: 0.0,
-                }
-            })
-        })
-        .collect()
+    let mut contacts = Contacts::new();
+    for p in from.iter() {
+        let separation = normal.dot(p.position) - ref_face.offset;
+        if separation <= margin {
+            let (on_ref, on_inc) = (p.reference_feature, p.incident_feature);
+            let (on_a, on_b) = if reference_is_a {
+                (on_ref, on_inc)
+            } else {
+                (on_inc, on_ref)
+            };
+            contacts.push(Contact {
+                position: p.position - normal * (0.5 * separation),
+                normal: normal * sign,
+                separation,
+                kind: p.kind,
+                feature: FeatureId { on_a, on_b },
+                time_of_impact: 0.0,
+            });
+        }
+    }
+    contacts
 }
 
 /// Sutherland–Hodgman against one plane: keeps the part with `plane · x ≤ offset`, in `out`.
@@ -703,14 +769,14 @@ fn clip_polygon(
 
 /// Keeps at most 4 points spanning the largest area: the deepest, the farthest from it,
 /// then the two that make the largest triangles with those on either side.
-fn reduce_by_area(contacts: Vec<Contact>) -> Vec<Contact> {
+fn reduce_by_area(contacts: &mut Contacts) {
     if contacts.len() <= MAX_MANIFOLD_POINTS {
-        return contacts;
+        return;
     }
     let normal = contacts[0].normal;
     let position = |k: usize| contacts[k].position;
     let first = 0; // sorted deepest first
-    let second = farthest_from(&contacts, position(first));
+    let second = farthest_from(contacts, position(first));
     let signed_area = |k: usize| {
         (position(second) - position(first))
             .cross(position(k) - position(first))
@@ -721,12 +787,14 @@ fn reduce_by_area(contacts: Vec<Contact>) -> Vec<Contact> {
             .max_by(|&x, &y| pick(signed_area(x)).total_cmp(&pick(signed_area(y))))
             .expect("more than 4 contacts")
     };
-    let third = by_area(|area| area);
-    let fourth = by_area(|area| -area);
-    let mut keep = vec![first, second, third, fourth];
-    keep.sort_unstable();
-    keep.dedup();
-    keep.into_iter().map(|k| contacts[k]).collect()
+    let keep = [first, second, by_area(|area| area), by_area(|area| -area)];
+    // In their order: the kept ones stay sorted deepest first.
+    let mut index = 0;
+    contacts.retain(|_| {
+        let kept = keep.contains(&index);
+        index += 1;
+        kept
+    });
 }
 
 fn farthest_from(contacts: &[Contact], point: DVec3) -> usize {
@@ -1064,6 +1132,12 @@ mod tests {
         (0.05..2.0f64, 0.05..2.0f64, 0.05..2.0f64).prop_map(|(x, y, z)| DVec3::new(x, y, z))
     }
 
+    #[test]
+    fn box_edge_faces_are_those_of_the_face_loops() {
+        let loops = BOX_FACES.iter().map(|(loop_, _)| loop_.as_slice());
+        assert_eq!(faces_at_edges(loops, &BOX_EDGES), BOX_EDGE_FACES);
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(500))]
 
@@ -1077,6 +1151,7 @@ mod tests {
             turn_a in unit_quat(),
             turn_b in unit_quat(),
             offset in (-3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64),
+            floor in -2.0..0.5f64,
         ) {
             let (shape_a, shape_b) = (Shape::cuboid(size_a), Shape::cuboid(size_b));
             let posed_a = PosedShape::new(&shape_a, DVec3::ZERO, DMat3::from_quat(turn_a));
@@ -1102,10 +1177,11 @@ mod tests {
                 let s_of_closed = -other.support_value(-owner.faces[face].normal) - owner.faces[face].offset;
                 prop_assert!(face == f || (s_of_closed - s).abs() <= 1e-12 * (1.0 + s.abs()));
             }
-            let shortcut = best_edge_axis(&a, &b);
+            let shortcut = best_edge_axis(&a, &b, f64::NEG_INFINITY);
             let searched = best_edge_axis(
                 &Polyhedron { box_frame: None, ..a.clone() },
                 &Polyhedron { box_frame: None, ..b.clone() },
+                f64::NEG_INFINITY,
             );
             match (shortcut, searched) {
                 (
@@ -1116,6 +1192,22 @@ mod tests {
                     prop_assert_eq!(separation, s);
                 }
                 (x, y) => prop_assert!(x.is_none() && y.is_none(), "{:?} against {:?}", x, y),
+            }
+            // The pairs left out below a floor change nothing above it.
+            let floored = best_edge_axis(&a, &b, floor);
+            match (floored, searched) {
+                (
+                    Some(Axis::Edges { edge_a, edge_b, separation, .. }),
+                    Some(Axis::Edges { edge_a: ea, edge_b: eb, separation: s, .. }),
+                ) if s > floor => {
+                    prop_assert_eq!((edge_a, edge_b), (ea, eb));
+                    prop_assert_eq!(separation, s);
+                }
+                (x, y) => prop_assert!(
+                    x.is_none_or(|x| x.separation() <= floor)
+                        && y.is_none_or(|y| y.separation() <= floor),
+                    "{:?} against {:?} above {}", x, y, floor
+                ),
             }
         }
     }
