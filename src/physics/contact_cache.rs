@@ -9,35 +9,44 @@ use crate::physics::soft_solver::{ContactInput, WarmImpulse};
 
 type Key = (BodyId, BodyId, FeatureId);
 
-/// Sorted by key, so lookups are binary searches and iteration order is deterministic.
+/// Sorted by key, so that a pair's entries are found by binary search and iteration order is
+/// deterministic.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactCache {
     entries: Vec<(Key, WarmImpulse)>,
 }
 
 impl ContactCache {
-    fn lookup(&self, key: &Key) -> WarmImpulse {
-        self.entries
-            .binary_search_by(|(k, _)| k.cmp(key))
-            .map(|index| self.entries[index].1)
-            .unwrap_or_default()
+    /// The entries of one body pair: found by one binary search per manifold, so that its
+    /// few points are then looked up among a handful.
+    fn entries_of(&self, a: BodyId, b: BodyId) -> &[(Key, WarmImpulse)] {
+        let start = self
+            .entries
+            .partition_point(|((x, y, _), _)| (*x, *y) < (a, b));
+        let rest = &self.entries[start..];
+        let length = rest.partition_point(|((x, y, _), _)| (*x, *y) == (a, b));
+        &rest[..length]
     }
 
     /// The solver's view of this step's contacts, warm-started from the cache, into `inputs`
     /// (emptied first; kept by the caller so that its room is reused).
     pub fn solver_inputs(&self, manifolds: &[ContactManifold], inputs: &mut Vec<ContactInput>) {
         inputs.clear();
-        let contacts = manifolds
-            .iter()
-            .flat_map(|m| m.contacts.iter().map(move |c| (m, c)));
-        inputs.extend(contacts.map(|(m, c)| ContactInput {
-            a: m.body_a.index(),
-            b: m.body_b.index(),
-            point: c.position,
-            normal: c.normal,
-            separation: c.separation,
-            warm_impulse: self.lookup(&(m.body_a, m.body_b, c.feature)),
-        }));
+        for m in manifolds {
+            let remembered = self.entries_of(m.body_a, m.body_b);
+            inputs.extend(m.contacts.iter().map(|c| {
+                ContactInput {
+                    a: m.body_a.index(),
+                    b: m.body_b.index(),
+                    point: c.position,
+                    normal: c.normal,
+                    separation: c.separation,
+                    warm_impulse: (remembered.iter())
+                        .find(|((_, _, feature), _)| *feature == c.feature)
+                        .map_or_else(WarmImpulse::default, |entry| entry.1),
+                }
+            }));
+        }
     }
 
     /// Remembers the impulses the solver returned, in the order of `solver_inputs`.

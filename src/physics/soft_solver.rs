@@ -94,7 +94,8 @@ struct Side {
 
 /// What a side's impulses do, as plain vectors, while a contact is prepared: for the
 /// normal and the two tangents d, the arm r × d and the spin I⁻¹ (r × d) that a unit
-/// impulse along d gives, with the world inertia at step start.
+/// impulse along d gives, with the world inertia at step start (zero where the body does not
+/// move).
 struct SideGeometry {
     lever: DVec3,
     arm: [DVec3; 3],
@@ -104,28 +105,28 @@ struct SideGeometry {
 
 impl SideGeometry {
     fn new(body: &RigidBody, slot: u32, lever: DVec3, directions: &[DVec3; 3]) -> Self {
-        let moves = moves(slot);
+        if !moves(slot) {
+            // Nothing turns it: only the anchor, the contact point in world axes, is read.
+            return SideGeometry {
+                lever,
+                arm: [DVec3::ZERO; 3],
+                spin: [DVec3::ZERO; 3],
+                anchor: body.position + lever,
+            };
+        }
         // Arrays written out rather than mapped: `map` is not always inlined here.
         let arm = [
             lever.cross(directions[0]),
             lever.cross(directions[1]),
             lever.cross(directions[2]),
         ];
-        let spin = if moves {
-            let inertia = body.inv_inertia_world;
-            [inertia * arm[0], inertia * arm[1], inertia * arm[2]]
-        } else {
-            [DVec3::ZERO; 3]
-        };
+        let inertia = body.inv_inertia_world;
+        let spin = [inertia * arm[0], inertia * arm[1], inertia * arm[2]];
         SideGeometry {
             lever,
             arm,
             spin,
-            anchor: if moves {
-                body.orientation.transpose() * lever
-            } else {
-                body.position + lever
-            },
+            anchor: body.orientation.transpose() * lever,
         }
     }
 
