@@ -62,12 +62,6 @@ impl F64x4 {
         v.x * self.0[0] + v.y * self.0[1] + v.z * self.0[2]
     }
 
-    /// The dot product of lanes 0 to 2 of both, in glam's order of operations.
-    #[inline(always)]
-    pub fn dot(self, other: F64x4) -> f64 {
-        self.0[0] * other.0[0] + self.0[1] * other.0[1] + self.0[2] * other.0[2]
-    }
-
     /// The cross product of lanes 0 to 2, in glam's order of operations; lane 3 is zero.
     #[inline(always)]
     pub fn cross(self, other: F64x4) -> F64x4 {
@@ -142,7 +136,6 @@ mod tests {
         assert_eq!((la * 0.3).to_vec3(), a * 0.3);
         assert_eq!((-la).to_vec3(), -a);
         assert_eq!(la.dot3(b), b.dot(a));
-        assert_eq!(la.dot(lb), a.dot(b));
         assert_eq!(la.cross(lb).to_vec3(), a.cross(b));
         let t = F64x4::transpose([a, b, a + b]);
         assert_eq!([t[0].lane(1), t[1].lane(1), t[2].lane(1)], [b.x, b.y, b.z]);

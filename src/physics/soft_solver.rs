@@ -248,35 +248,43 @@ impl PointConstraint {
         [speeds.lane(0), speeds.lane(1), speeds.lane(2)]
     }
 
+    /// The impulse Σ λ d of impulses λ along the three directions.
+    #[inline(always)]
+    fn along_directions(&self, lambda: [f64; 3]) -> F64x4 {
+        let [n, t1, t2] = self.directions;
+        n * lambda[0] + t1 * lambda[1] + t2 * lambda[2]
+    }
+
     /// Impulses λ along the three directions: +Σ λ d to b, −Σ λ d to a, at their levers.
     #[inline(always)]
     fn apply(&self, bodies: &SharedBodies, lambda: [f64; 3]) {
-        let [n, t1, t2] = self.directions;
-        self.push(bodies, n * lambda[0] + t1 * lambda[1] + t2 * lambda[2]);
+        let add = |slot, linear, angular| bodies.add(slot, linear, angular);
+        self.push(self.along_directions(lambda), add);
     }
 
     /// A normal impulse only.
     fn apply_normal(&self, bodies: &SharedBodies, lambda: f64) {
-        self.push(bodies, self.directions[0] * lambda);
-    }
-
-    /// The impulse J to b and −J to a, each at its lever.
-    #[inline(always)]
-    fn push(&self, bodies: &SharedBodies, linear: F64x4) {
-        let [slot_a, slot_b] = self.slots;
-        bodies.add(slot_a, -linear, -self.a.lever.cross(linear));
-        bodies.add(slot_b, linear, self.b.lever.cross(linear));
+        let add = |slot, linear, angular| bodies.add(slot, linear, angular);
+        self.push(self.directions[0] * lambda, add);
     }
 
     /// Adds the impulse the contact holds to its bodies' next warm start.
     #[inline(always)]
     fn add_to_warm_start(&self, bodies: &SharedBodies) {
-        let [n, t1, t2] = self.directions;
         let [tangent_1, tangent_2] = self.impulse.tangent;
-        let linear = n * self.impulse.normal + t1 * tangent_1 + t2 * tangent_2;
+        let linear = self.along_directions([self.impulse.normal, tangent_1, tangent_2]);
+        self.push(linear, |slot, linear, angular| {
+            bodies.add_warm_start(slot, linear, angular)
+        });
+    }
+
+    /// The impulse J to b and −J to a, each at its lever, handed to `add` (the momenta, or
+    /// the next warm start) as a linear and an angular part.
+    #[inline(always)]
+    fn push(&self, linear: F64x4, add: impl Fn(u32, F64x4, F64x4)) {
         let [slot_a, slot_b] = self.slots;
-        bodies.add_warm_start(slot_a, -linear, -self.a.lever.cross(linear));
-        bodies.add_warm_start(slot_b, linear, self.b.lever.cross(linear));
+        add(slot_a, -linear, -self.a.lever.cross(linear));
+        add(slot_b, linear, self.b.lever.cross(linear));
     }
 
     /// The next point of the same manifold (or of one between the same two bodies).
@@ -585,7 +593,7 @@ fn for_each_contact(
 }
 
 /// `pass` on these contacts in order, with the lanes (see `lanes`) four to an instruction
-/// where the processor has AVX and two otherwise. Both compute the same bits.
+/// where the processor has AVX2 and two otherwise. Both compute the same bits.
 fn run_pass(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {

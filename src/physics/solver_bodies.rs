@@ -168,29 +168,33 @@ impl<'a> SharedBodies<'a> {
         unsafe { &*self.slots.add(slot as usize) }
     }
 
-    /// Adds to a moving body's momenta; does nothing for `FIXED_SLOT`.
+    /// Changes a moving body's slot with `change`; does nothing for `FIXED_SLOT`, which is
+    /// never written.
     #[inline(always)]
-    pub fn add(&self, slot: u32, linear: F64x4, angular: F64x4) {
+    fn change_moving(&self, slot: u32, change: impl FnOnce(&mut SolverBody)) {
         if slot == FIXED_SLOT {
             return;
         }
         assert!((slot as usize) < self.len, "slot {slot} out of range");
         // SAFETY: in range, and only this thread reaches this slot in this colour.
-        let body = unsafe { &mut *self.slots.add(slot as usize) };
-        body.linear_momentum += linear;
-        body.angular_momentum += angular;
+        change(unsafe { &mut *self.slots.add(slot as usize) });
+    }
+
+    /// Adds to a moving body's momenta; does nothing for `FIXED_SLOT`.
+    #[inline(always)]
+    pub fn add(&self, slot: u32, linear: F64x4, angular: F64x4) {
+        self.change_moving(slot, |body| {
+            body.linear_momentum += linear;
+            body.angular_momentum += angular;
+        });
     }
 
     /// Adds to a moving body's next warm start (see `add`).
     #[inline(always)]
     pub fn add_warm_start(&self, slot: u32, linear: F64x4, angular: F64x4) {
-        if slot == FIXED_SLOT {
-            return;
-        }
-        assert!((slot as usize) < self.len, "slot {slot} out of range");
-        // SAFETY: as in `add`.
-        let body = unsafe { &mut *self.slots.add(slot as usize) };
-        body.warm_start[0] += linear;
-        body.warm_start[1] += angular;
+        self.change_moving(slot, |body| {
+            body.warm_start[0] += linear;
+            body.warm_start[1] += angular;
+        });
     }
 }
