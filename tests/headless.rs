@@ -277,7 +277,7 @@ fn replay_in_another_process_matches_the_live_run() {
 
 #[test]
 fn bad_snapshot_file_is_a_clear_error() {
-    let path = write_scene("bad.snapshot.ron", "(format: 1, time: NaN)");
+    let path = write_scene("bad.snapshot.ron", "(format: 2, time: NaN)");
     let out = headless(&["--from-snapshot", path.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);

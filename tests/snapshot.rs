@@ -145,7 +145,7 @@ fn bad_snapshots_are_refused_with_the_file_and_body_named() {
         "{error}"
     );
 
-    let error = WorldSnapshot::from_ron("(format: 1, nonsense: 3)", FILE).unwrap_err();
+    let error = WorldSnapshot::from_ron("(format: 2, nonsense: 3)", FILE).unwrap_err();
     assert!(matches!(error, SnapshotError::Unreadable { .. }), "{error}");
 }
 

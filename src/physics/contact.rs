@@ -24,7 +24,7 @@ pub struct FeatureId {
 }
 
 /// What kind of feature pair touches, in the report's vocabulary (section 3.3).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum ContactKind {
     /// A vertex of one body against a face of the other; the normal is the face normal.
     VertexFace,

@@ -21,6 +21,7 @@ pub mod integrate;
 pub mod islands;
 pub mod lanes;
 pub mod manifold;
+pub mod manifold_memory;
 pub mod mass;
 pub mod narrow_phase;
 pub mod nearest_surface;

@@ -13,6 +13,7 @@ use crate::physics::body::{Motion, RigidBody};
 use crate::physics::broad_phase::{BodyPair, Proxy};
 use crate::physics::contact::ContactManifold;
 use crate::physics::manifold::contact_manifold;
+use crate::physics::manifold_memory::{ManifoldMemory, RememberedManifold};
 
 /// Contacts closer than this are always kept, m: enough for resting contacts to persist.
 pub const SPECULATIVE_DISTANCE: f64 = 0.02;
@@ -67,28 +68,51 @@ pub fn update_proxies(
 const PAIRS_PER_TASK: usize = 64;
 
 /// The manifolds of all candidate pairs whose surfaces are, or may come, within reach, in
-/// pair order. Pairs are independent, so they are computed on all threads; the collected
+/// pair order, and what to remember of them for the next step. A pair that has barely moved
+/// since `memory` saw it carries its remembered manifold (see `manifold_memory`); the others
+/// are generated. Pairs are independent, so they are computed on all threads; the collected
 /// order, and so every later stage, is the same for any number of threads.
-pub fn find_manifolds(bodies: &[RigidBody], pairs: &[BodyPair], dt: f64) -> Vec<ContactManifold> {
-    if rayon::current_num_threads() == 1 {
+pub fn find_manifolds(
+    bodies: &[RigidBody],
+    pairs: &[BodyPair],
+    dt: f64,
+    memory: &ManifoldMemory,
+) -> (Vec<ContactManifold>, ManifoldMemory) {
+    let (manifolds, remembered) = if rayon::current_num_threads() == 1 {
         // Handing the work to a pool of one thread only adds its wake-ups.
-        let manifolds = pairs
-            .iter()
-            .filter_map(|pair| manifold_of_pair(bodies, pair, dt));
-        return manifolds.collect();
-    }
-    pairs
-        .par_iter()
-        .with_min_len(PAIRS_PER_TASK)
-        .filter_map(|pair| manifold_of_pair(bodies, pair, dt))
-        .collect()
+        let mut found = (
+            Vec::with_capacity(pairs.len()),
+            Vec::with_capacity(pairs.len()),
+        );
+        found.extend((pairs.iter()).filter_map(|pair| manifold_of_pair(bodies, pair, dt, memory)));
+        found
+    } else {
+        pairs
+            .par_iter()
+            .with_min_len(PAIRS_PER_TASK)
+            .filter_map(|pair| manifold_of_pair(bodies, pair, dt, memory))
+            .unzip()
+    };
+    (manifolds, ManifoldMemory::new(remembered))
 }
 
-fn manifold_of_pair(bodies: &[RigidBody], pair: &BodyPair, dt: f64) -> Option<ContactManifold> {
+fn manifold_of_pair(
+    bodies: &[RigidBody],
+    pair: &BodyPair,
+    dt: f64,
+    memory: &ManifoldMemory,
+) -> Option<(ContactManifold, RememberedManifold)> {
     let (a, b) = (&bodies[pair.a.index()], &bodies[pair.b.index()]);
     if !a.is_awake() && !b.is_awake() {
         return None;
     }
     let margin = SPECULATIVE_DISTANCE + motion_bound(a, dt) + motion_bound(b, dt);
-    contact_manifold(a, pair.a, b, pair.b, margin)
+    let remembered = memory.find(pair.a, pair.b);
+    if let Some(carried) = remembered.and_then(|r| r.carried(a, b, margin)) {
+        return Some((carried, remembered?.clone()));
+    }
+    let manifold = contact_manifold(a, pair.a, b, pair.b, margin)?;
+    let remembered = RememberedManifold::of(&manifold, a, b);
+    Some((manifold, remembered))
 }
+

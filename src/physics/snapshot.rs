@@ -1,5 +1,5 @@
 //! Saving and restoring a whole world: the bodies, the forces and settings, and the state the
-//! next step reads (warm-start impulses, cached broad-phase boxes, sleep timers, the force list
+//! next step reads (warm-start impulses, remembered manifolds, cached broad-phase boxes, sleep timers, the force list
 //! the last step saw). A world restored from a snapshot continues bit for bit as if it had
 //! never stopped; the broad phase's own bookkeeping is only a cache and is rebuilt.
 //!
@@ -17,10 +17,11 @@ use crate::physics::body::RigidBody;
 use crate::physics::broad_phase::{BroadPhaseKind, Proxy};
 use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::EnvironmentForce;
+use crate::physics::manifold_memory::ManifoldMemory;
 use crate::physics::world::{Fault, MAX_BODIES, WorldSettings};
 
 /// Raised when the layout of `WorldSnapshot` changes.
-pub const SNAPSHOT_FORMAT: u32 = 1;
+pub const SNAPSHOT_FORMAT: u32 = 2;
 
 /// Everything a `World` is made of, as plain data.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -39,6 +40,8 @@ pub struct WorldSnapshot {
     /// Bodies added or edited since the last step, which the next step looks at again.
     pub touched: Vec<u32>,
     pub contact_cache: ContactCache,
+    /// The last step's manifolds in their bodies' frames (see `manifold_memory`).
+    pub manifold_memory: ManifoldMemory,
     pub awake: usize,
     pub faults: Vec<Fault>,
 }
@@ -137,6 +140,7 @@ impl WorldSnapshot {
                 "the contact cache names a missing body".into(),
             ));
         }
+        self.manifold_memory.check(count).map_err(inconsistent)?;
         if let Some(fault) = self.faults.iter().find(|f| f.body.index() >= count) {
             return Err(inconsistent(format!(
                 "fault on missing body {}",

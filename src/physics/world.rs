@@ -31,6 +31,7 @@ use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::integrate::{self, Integrator};
 use crate::physics::islands::{self, SleepSettings};
+use crate::physics::manifold_memory::ManifoldMemory;
 use crate::physics::narrow_phase;
 use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
 use crate::physics::soft_solver::{
@@ -73,6 +74,8 @@ pub struct World {
     /// Everyone was woken since sleeping was last switched off.
     woken_for_no_sleep: bool,
     manifolds: Vec<ContactManifold>,
+    /// The last step's manifolds in their bodies' frames, carried while pairs barely move.
+    manifold_memory: ManifoldMemory,
     contact_cache: ContactCache,
     /// The soft solver's contacts and buffers, kept so that a step does not allocate them
     /// again.
@@ -158,6 +161,7 @@ impl World {
             awake_set: AwakeSet::default(),
             woken_for_no_sleep: false,
             manifolds: Vec::new(),
+            manifold_memory: ManifoldMemory::default(),
             contact_cache: ContactCache::default(),
             solver_inputs: Vec::new(),
             soft_scratch: SoftScratch::default(),
@@ -187,6 +191,7 @@ impl World {
             proxies: self.proxies.clone(),
             touched: self.awake_set.touched().to_vec(),
             contact_cache: self.contact_cache.clone(),
+            manifold_memory: self.manifold_memory.clone(),
             awake: self.awake,
             faults: self.faults.clone(),
         }
@@ -201,6 +206,7 @@ impl World {
             proxies: snapshot.proxies,
             awake_set: AwakeSet::with_touched(snapshot.touched),
             contact_cache: snapshot.contact_cache,
+            manifold_memory: snapshot.manifold_memory,
             forces_seen: snapshot.forces_seen,
             awake: snapshot.awake,
             forces: snapshot.forces,
@@ -310,7 +316,9 @@ impl World {
             let pairs = self.broad_phase(dt, &touched);
             self.pairs = pairs.len();
             times.broad_phase = clock.lap();
-            self.manifolds = narrow_phase::find_manifolds(&self.bodies, &pairs, dt);
+            self.manifold_memory.forget(&touched);
+            (self.manifolds, self.manifold_memory) =
+                narrow_phase::find_manifolds(&self.bodies, &pairs, dt, &self.manifold_memory);
             times.narrow_phase = clock.lap();
             self.update_sleep(dt);
             let bodies = &self.bodies;
@@ -386,6 +394,7 @@ impl World {
         let (report, touching) = classic::step(&mut self.bodies, pairs, &ctx);
         self.classic_report = report;
         self.manifolds = touching;
+        self.manifold_memory.clear();
         self.contact_cache.clear();
     }
 
