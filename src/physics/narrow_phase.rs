@@ -115,4 +115,3 @@ fn manifold_of_pair(
     let remembered = RememberedManifold::of(&manifold, a, b);
     Some((manifold, remembered))
 }
-
