@@ -6,7 +6,7 @@
 //! or the sweep degenerates into all n² tests. The order is kept between calls and re-sorted
 //! with a run-adaptive stable sort, which costs O(n) when bodies moved little.
 
-use crate::physics::broad_phase::{BodyPair, BroadPhase, Proxy, wants_pair};
+use crate::physics::broad_phase::{BodyPair, BroadPhase, Proxy, sort_pairs, wants_pair};
 
 #[derive(Clone, Debug, Default)]
 pub struct SweepAndPrune {
@@ -55,7 +55,7 @@ impl BroadPhase for SweepAndPrune {
                 }
             }
         }
-        pairs.sort_unstable();
+        sort_pairs(&mut pairs);
         pairs
     }
 }

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use crate::physics::aabb::Aabb;
-use crate::physics::broad_phase::{BodyPair, BroadPhase, Proxy, wants_pair};
+use crate::physics::broad_phase::{BodyPair, BroadPhase, Proxy, sort_pairs, wants_pair};
 
 /// A box covering more cells than this (a ground slab) is kept aside and tested against
 /// every other box instead of being written into thousands of cells.
@@ -126,7 +126,7 @@ impl BroadPhase for UniformGrid {
             }
         }
         // A pair sharing several cells is found once per cell.
-        pairs.sort_unstable();
+        sort_pairs(&mut pairs);
         pairs.dedup();
         pairs
     }
