@@ -100,7 +100,34 @@ pub fn rotate_exact(orientation: DMat3, omega: DVec3, dt: f64) -> DMat3 {
 
 /// exp(ω dt) q, normalised.
 fn rotate_quat(current: DQuat, omega: DVec3, dt: f64) -> DQuat {
-    (DQuat::from_scaled_axis(omega * dt) * current).normalize()
+    (rotation_of_vector(omega * dt) * current).normalize()
+}
+
+/// Up to this angle, rad, a step's rotation is taken from its series (see
+/// `rotation_of_vector`); beyond it from the sine and cosine.
+const SERIES_MAX_ANGLE: f64 = 0.2;
+
+/// The unit quaternion (sin(θ/2) v/θ, cos(θ/2)) of the rotation vector v, θ = |v|. A step
+/// turns a body by far less than SERIES_MAX_ANGLE, and there the series in z = θ²/4, cut
+/// where its next term is below 3e-18 of the sum, give the same values to round-off without
+/// the square root, sine and cosine (4 % of a rain's instructions went to them).
+fn rotation_of_vector(v: DVec3) -> DQuat {
+    let angle_squared = v.length_squared();
+    // A NaN angle takes the sine and cosine too, which carry it on as they always did.
+    let small = angle_squared <= SERIES_MAX_ANGLE * SERIES_MAX_ANGLE;
+    if !small {
+        return DQuat::from_scaled_axis(v);
+    }
+    let z = 0.25 * angle_squared;
+    // sin(θ/2)/θ = ½ Σ (−z)ᵏ/(2k+1)!, cos(θ/2) = Σ (−z)ᵏ/(2k)!, in Horner form.
+    let term = |k: f64| z * (1.0 / k);
+    let sine_over_angle =
+        0.5 * (1.0 - term(6.0) * (1.0 - term(20.0) * (1.0 - term(42.0) * (1.0 - term(72.0)))));
+    let cosine = 1.0
+        - term(2.0)
+            * (1.0 - term(12.0) * (1.0 - term(30.0) * (1.0 - term(56.0) * (1.0 - term(90.0)))));
+    let axis = v * sine_over_angle;
+    DQuat::from_xyzw(axis.x, axis.y, axis.z, cosine)
 }
 
 /// ω taken at the half-step orientation, by fixed-point iteration. The iteration stops once
@@ -159,4 +186,30 @@ pub fn orthonormality_error(m: DMat3) -> f64 {
         .iter()
         .map(|c| c.abs().max_element())
         .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec4;
+
+    use super::*;
+
+    /// The series give the sine and cosine's quaternion to within 2 units in the last place
+    /// over the whole range they are used for, about any axis.
+    #[test]
+    fn the_series_rotation_matches_the_sine_and_cosine() {
+        for k in 0..=2000 {
+            let angle = SERIES_MAX_ANGLE * k as f64 / 2000.0;
+            let axis = DVec3::new(1.0, -2.0 + k as f64 * 1e-3, 0.5).normalize();
+            let series = rotation_of_vector(axis * angle);
+            let exact = DQuat::from_scaled_axis(axis * angle);
+            let gap = (DVec4::from(series) - DVec4::from(exact))
+                .abs()
+                .max_element();
+            assert!(
+                gap <= 2.0 * f64::EPSILON,
+                "{angle}: {series:?} against {exact:?}"
+            );
+        }
+    }
 }
