@@ -60,9 +60,19 @@ fn run_both(
     ours_substeps: Option<u32>,
     theirs_substeps: Option<u32>,
 ) -> ((Ours, f64), (Theirs, f64)) {
+    run_both_times(scene, ours_substeps, theirs_substeps, REPEATS)
+}
+
+/// `run_both` with `repeats` runs of each engine.
+fn run_both_times(
+    scene: &SceneDesc,
+    ours_substeps: Option<u32>,
+    theirs_substeps: Option<u32>,
+    repeats: usize,
+) -> ((Ours, f64), (Theirs, f64)) {
     let (mut ours_times, mut theirs_times) = (Vec::new(), Vec::new());
     let (mut ours_last, mut theirs_last) = (None, None);
-    for _ in 0..REPEATS {
+    for _ in 0..repeats {
         let (engine, ms) = run::<Ours>(scene, ours_substeps);
         ours_times.push(ms);
         ours_last = Some(engine);
@@ -300,7 +310,12 @@ fn roll_row() -> Row {
 
 /// Our substeps (default 8) and rapier's solver iterations (default 4), run in pairs taking
 /// turns: each engine from below its default to well above it.
-const SWEEP: [(u32, u32); 5] = [(3, 2), (4, 4), (5, 6), (6, 8), (8, 12)];
+const SWEEP: &[(u32, u32)] = &[(3, 2), (4, 4), (5, 6), (6, 8), (8, 12)];
+
+/// The rain of 4000 takes half a minute a run: our 4 substeps against rapier's default,
+/// three runs each.
+const LARGE_SWEEP: &[(u32, u32)] = &[(4, 4)];
+const LARGE_REPEATS: usize = 3;
 
 /// What a sweep measures as the error of a run, m.
 #[derive(Clone, Copy)]
@@ -341,10 +356,17 @@ struct Sweep {
     theirs: Vec<Setting>,
 }
 
-fn sweep(scene_name: &str, scene: &SceneDesc, error: SweepError) -> Sweep {
+fn sweep(
+    scene_name: &str,
+    scene: &SceneDesc,
+    error: SweepError,
+    settings: &[(u32, u32)],
+    repeats: usize,
+) -> Sweep {
     let (mut ours, mut theirs) = (Vec::new(), Vec::new());
-    for (our_substeps, their_iterations) in SWEEP {
-        let ((o, o_ms), (t, t_ms)) = run_both(scene, Some(our_substeps), Some(their_iterations));
+    for &(our_substeps, their_iterations) in settings {
+        let ((o, o_ms), (t, t_ms)) =
+            run_both_times(scene, Some(our_substeps), Some(their_iterations), repeats);
         ours.push(Setting {
             substeps: our_substeps,
             ms: o_ms,
@@ -570,11 +592,26 @@ fn main() {
     rows.push(roll_row());
     eprintln!("sweeps…");
     let sweeps = [
-        sweep("pyramid", &scenes::pyramid(), SweepError::Drift),
+        sweep(
+            "pyramid",
+            &scenes::pyramid(),
+            SweepError::Drift,
+            SWEEP,
+            REPEATS,
+        ),
         sweep(
             "rain 1000",
             &scenes::rain(1000).0,
             SweepError::DeepestOverlap,
+            SWEEP,
+            REPEATS,
+        ),
+        sweep(
+            "rain 4000",
+            &scenes::rain(4000).0,
+            SweepError::DeepestOverlap,
+            LARGE_SWEEP,
+            LARGE_REPEATS,
         ),
     ];
     println!("## Side by side with rapier3d\n");
@@ -583,8 +620,9 @@ fn main() {
     println!("{}", notes(&rows));
     println!("### Work against error over the substeps\n");
     println!(
-        "Both engines over their substeps, in pairs taking turns as above (our spring stiffness \
-         stays at its default, capped at a fifth of the substep rate). The errors are the \
+        "Both engines over their substeps, in pairs taking turns as above ({REPEATS} runs each; \
+         the rain of 4000 {LARGE_REPEATS}, at one pair of settings). Our spring stiffness \
+         stays at its default, capped at a fifth of the substep rate. The errors are the \
          table's: the pyramid's worst drift, the rain's deepest overlap.\n"
     );
     println!("{}", sweep_table(&sweeps));
