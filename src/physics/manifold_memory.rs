@@ -7,8 +7,9 @@
 //! bodies' current poses and measures each separation again along the normal, so a resting
 //! contact keeps its true depth. What can go stale is which features touch and where along
 //! the surfaces, and no surface point has moved more than `REUSE_DISTANCE` against the other
-//! body: a feature that was farther than the speculative distance when the manifold was
-//! generated cannot have reached the other body yet.
+//! body: a feature that was farther than the generation's margin cannot have reached the
+//! other body yet. A pair that could close more than that margin in the coming step (a body
+//! just struck) is generated again, so that its speculative contacts are all there.
 //!
 //! Why: in a pile or a stack most pairs barely move from one step to the next, and generating
 //! their contacts (separating axes and clipping, or GJK and EPA for rounded shapes) costs
@@ -88,12 +89,15 @@ pub struct RememberedManifold {
     pub body_a: BodyId,
     pub body_b: BodyId,
     pose: RelativePose,
+    /// The margin it was generated with: every feature it left out was farther apart.
+    margin: f64,
     contacts: SmallVec<[RememberedContact; MAX_MANIFOLD_POINTS]>,
 }
 
 impl RememberedManifold {
-    /// `manifold`, just generated for the bodies `a` and `b` in their current poses.
-    pub fn of(manifold: &ContactManifold, a: &RigidBody, b: &RigidBody) -> Self {
+    /// `manifold`, just generated with `margin` for the bodies `a` and `b` in their current
+    /// poses.
+    pub fn of(manifold: &ContactManifold, a: &RigidBody, b: &RigidBody, margin: f64) -> Self {
         let to_a = a.orientation.transpose();
         let to_b = b.orientation.transpose();
         let (origin_a, origin_b) = (a.shape_origin(), b.shape_origin());
@@ -108,18 +112,27 @@ impl RememberedManifold {
             body_a: manifold.body_a,
             body_b: manifold.body_b,
             pose: RelativePose::of(a, b),
+            margin,
             contacts: contacts.collect(),
         }
     }
 
     /// The manifold carried to the bodies' current poses, keeping the contacts within
-    /// `margin`; None when the bodies have moved too far against each other for it, or no
-    /// contact is left, so that it must be generated again.
-    pub fn carried(&self, a: &RigidBody, b: &RigidBody, margin: f64) -> Option<ContactManifold> {
+    /// `margin`; None when it must be generated again: the bodies have moved too far against
+    /// each other for it, they can close more than what it left out in this step
+    /// (`closable`, the sum of their motion bounds), or no contact is left.
+    pub fn carried(
+        &self,
+        a: &RigidBody,
+        b: &RigidBody,
+        margin: f64,
+        closable: f64,
+    ) -> Option<ContactManifold> {
         let now = RelativePose::of(a, b);
         let (radius_a, radius_b) = (a.shape.bounding_radius(), b.shape.bounding_radius());
-        // A non-finite pose gives NaN, which is not within the distance either.
-        let within = self.pose.displacement_bound(&now, radius_a, radius_b) <= REUSE_DISTANCE;
+        let moved = self.pose.displacement_bound(&now, radius_a, radius_b);
+        // A non-finite pose or speed gives NaN, which is not within the bounds either.
+        let within = moved <= REUSE_DISTANCE && closable < self.margin - REUSE_DISTANCE;
         if !within {
             return None;
         }
@@ -152,7 +165,8 @@ impl RememberedManifold {
 
     fn is_finite(&self) -> bool {
         let pose = &self.pose;
-        pose.rotation.is_finite()
+        self.margin.is_finite()
+            && pose.rotation.is_finite()
             && pose.b_in_a.is_finite()
             && pose.a_in_b.is_finite()
             && (self.contacts.iter())
@@ -263,9 +277,9 @@ mod tests {
         b_now: &RigidBody,
         tolerance: f64,
     ) {
-        let remembered = RememberedManifold::of(&generated(a, b), a, b);
+        let remembered = RememberedManifold::of(&generated(a, b), a, b, 0.02);
         let carried = remembered
-            .carried(a, b_now, 0.02)
+            .carried(a, b_now, 0.02, 0.0)
             .expect("close enough to carry");
         let fresh = generated(a, b_now);
         assert_eq!(carried.contacts.len(), fresh.contacts.len());
@@ -325,17 +339,22 @@ mod tests {
         let b = body(
             BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.5))).at(DVec3::new(0.0, 0.499, 0.0)),
         );
-        let remembered = RememberedManifold::of(&generated(&a, &b), &a, &b);
+        let remembered = RememberedManifold::of(&generated(&a, &b), &a, &b, 0.02);
         let slid = moved(&b, DVec3::new(2.5e-3, 0.0, 0.0), DQuat::IDENTITY);
-        assert!(remembered.carried(&a, &slid, 0.02).is_none());
+        assert!(remembered.carried(&a, &slid, 0.02, 0.0).is_none());
         // 3 mrad turns the corners, 0.87 m out, by 2.6 mm.
         let turned = moved(&b, DVec3::ZERO, DQuat::from_rotation_y(3e-3));
-        assert!(remembered.carried(&a, &turned, 0.02).is_none());
+        assert!(remembered.carried(&a, &turned, 0.02, 0.0).is_none());
         // Lifted from 1 mm deep to 0.2 mm deep, within the reuse distance: with a margin of
         // -0.5 mm no contact is left to carry.
         let lifted = moved(&b, DVec3::new(0.0, 0.8e-3, 0.0), DQuat::IDENTITY);
-        assert!(remembered.carried(&a, &lifted, 0.0).is_some());
-        assert!(remembered.carried(&a, &lifted, -0.5e-3).is_none());
+        assert!(remembered.carried(&a, &lifted, 0.0, 0.0).is_some());
+        assert!(remembered.carried(&a, &lifted, -0.5e-3, 0.0).is_none());
+        // Struck, not yet moved: in this step it could close more than the 2 cm the
+        // generation looked out to, less the reuse distance, so a corner left out could
+        // reach the floor.
+        assert!(remembered.carried(&a, &b, 0.02, 0.017).is_some());
+        assert!(remembered.carried(&a, &b, 0.04, 0.02).is_none());
     }
 
     #[test]
@@ -345,7 +364,7 @@ mod tests {
         let remembered = |x: u32, y: u32| RememberedManifold {
             body_a: BodyId(x),
             body_b: BodyId(y),
-            ..RememberedManifold::of(&generated(&a, &b), &a, &b)
+            ..RememberedManifold::of(&generated(&a, &b), &a, &b, 0.02)
         };
         let mut memory =
             ManifoldMemory::new(vec![remembered(0, 1), remembered(0, 2), remembered(1, 3)]);

@@ -106,12 +106,13 @@ fn manifold_of_pair(
     if !a.is_awake() && !b.is_awake() {
         return None;
     }
-    let margin = SPECULATIVE_DISTANCE + motion_bound(a, dt) + motion_bound(b, dt);
+    let closable = motion_bound(a, dt) + motion_bound(b, dt);
+    let margin = SPECULATIVE_DISTANCE + closable;
     let remembered = memory.find(pair.a, pair.b);
-    if let Some(carried) = remembered.and_then(|r| r.carried(a, b, margin)) {
+    if let Some(carried) = remembered.and_then(|r| r.carried(a, b, margin, closable)) {
         return Some((carried, remembered?.clone()));
     }
     let manifold = contact_manifold(a, pair.a, b, pair.b, margin)?;
-    let remembered = RememberedManifold::of(&manifold, a, b);
+    let remembered = RememberedManifold::of(&manifold, a, b, margin);
     Some((manifold, remembered))
 }
