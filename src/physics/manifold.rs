@@ -1112,13 +1112,14 @@ fn point_contact(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use glam::{DMat3, DQuat};
     use proptest::prelude::*;
 
     use super::*;
 
-    fn unit_quat() -> impl Strategy<Value = DQuat> {
+    /// Uniform-ish unit quaternions (rejecting the short ones before normalising).
+    pub(crate) fn unit_quat() -> impl Strategy<Value = DQuat> {
         (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64).prop_filter_map(
             "not near zero",
             |(x, y, z, w)| {

@@ -244,6 +244,7 @@ mod tests {
     use super::*;
     use crate::physics::body::BodyDesc;
     use crate::physics::manifold::contact_manifold;
+    use crate::physics::manifold::tests::unit_quat;
     use crate::physics::shape::Shape;
 
     fn body(desc: BodyDesc) -> RigidBody {
@@ -378,16 +379,6 @@ mod tests {
         assert!(memory.check(4).unwrap_err().contains("not finite"));
         memory.manifolds.swap(0, 1);
         assert!(memory.check(4).unwrap_err().contains("not sorted"));
-    }
-
-    fn unit_quat() -> impl Strategy<Value = DQuat> {
-        (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64).prop_filter_map(
-            "not near zero",
-            |(x, y, z, w)| {
-                let q = DQuat::from_xyzw(x, y, z, w);
-                (q.length() > 0.1).then(|| q.normalize())
-            },
-        )
     }
 
     fn small_vector(size: f64) -> impl Strategy<Value = DVec3> {
