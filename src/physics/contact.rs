@@ -75,6 +75,18 @@ pub struct ContactManifold {
 pub const MAX_MANIFOLD_POINTS: usize = 4;
 
 impl ContactManifold {
+    /// The manifold of `contacts`, which come deepest first: its normal is the deepest
+    /// contact's. None when there are none.
+    pub fn new(body_a: BodyId, body_b: BodyId, contacts: Vec<Contact>) -> Option<Self> {
+        let normal = contacts.first()?.normal;
+        Some(ContactManifold {
+            body_a,
+            body_b,
+            normal,
+            contacts,
+        })
+    }
+
     /// Stamps every contact with the time within the step at which it was found (after a
     /// rewind or a conservative advancement).
     pub fn with_time_of_impact(mut self, time: f64) -> Self {

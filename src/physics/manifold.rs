@@ -40,13 +40,7 @@ pub fn contact_manifold(
     margin: f64,
 ) -> Option<ContactManifold> {
     let contacts = generate_contacts(&PosedShape::of_body(a), &PosedShape::of_body(b), margin);
-    let first = contacts.first()?;
-    Some(ContactManifold {
-        body_a: id_a,
-        body_b: id_b,
-        normal: first.normal,
-        contacts,
-    })
+    ContactManifold::new(id_a, id_b, contacts)
 }
 
 /// The contacts of two placed shapes (deepest first, at most `MAX_MANIFOLD_POINTS`).

@@ -58,8 +58,8 @@ struct RelativePose {
 }
 
 impl RelativePose {
-    fn of(a: &RigidBody, b: &RigidBody) -> Self {
-        let (origin_a, origin_b) = (a.shape_origin(), b.shape_origin());
+    /// The pose of `b` against `a`, whose shape origins are `origin_a` and `origin_b`.
+    fn of(a: &RigidBody, origin_a: DVec3, b: &RigidBody, origin_b: DVec3) -> Self {
         RelativePose {
             rotation: a.orientation.transpose() * b.orientation,
             b_in_a: a.orientation.transpose() * (origin_b - origin_a),
@@ -111,7 +111,7 @@ impl RememberedManifold {
         RememberedManifold {
             body_a: manifold.body_a,
             body_b: manifold.body_b,
-            pose: RelativePose::of(a, b),
+            pose: RelativePose::of(a, origin_a, b, origin_b),
             margin,
             contacts: contacts.collect(),
         }
@@ -128,7 +128,8 @@ impl RememberedManifold {
         margin: f64,
         closable: f64,
     ) -> Option<ContactManifold> {
-        let now = RelativePose::of(a, b);
+        let (origin_a, origin_b) = (a.shape_origin(), b.shape_origin());
+        let now = RelativePose::of(a, origin_a, b, origin_b);
         let (radius_a, radius_b) = (a.shape.bounding_radius(), b.shape.bounding_radius());
         let moved = self.pose.displacement_bound(&now, radius_a, radius_b);
         // A non-finite pose or speed gives NaN, which is not within the bounds either.
@@ -136,7 +137,6 @@ impl RememberedManifold {
         if !within {
             return None;
         }
-        let (origin_a, origin_b) = (a.shape_origin(), b.shape_origin());
         let mut contacts: Vec<Contact> = (self.contacts.iter())
             .map(|c| {
                 let on_a = origin_a + a.orientation * c.on_a;
@@ -154,13 +154,7 @@ impl RememberedManifold {
             .filter(|c| c.separation <= margin)
             .collect();
         contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
-        let first = contacts.first()?;
-        Some(ContactManifold {
-            body_a: self.body_a,
-            body_b: self.body_b,
-            normal: first.normal,
-            contacts,
-        })
+        ContactManifold::new(self.body_a, self.body_b, contacts)
     }
 
     fn is_finite(&self) -> bool {
@@ -411,8 +405,11 @@ mod tests {
             let b = body(BodyDesc::dynamic(Shape::cuboid(half_b)).at(offset).rotated(turn_b));
             let a_now = moved(&a, move_a, DQuat::from_scaled_axis(spin_a));
             let b_now = moved(&b, move_b, DQuat::from_scaled_axis(spin_b));
-            let bound = RelativePose::of(&a, &b).displacement_bound(
-                &RelativePose::of(&a_now, &b_now),
+            let pose = |a: &RigidBody, b: &RigidBody| {
+                RelativePose::of(a, a.shape_origin(), b, b.shape_origin())
+            };
+            let bound = pose(&a, &b).displacement_bound(
+                &pose(&a_now, &b_now),
                 a.shape.bounding_radius(),
                 b.shape.bounding_radius(),
             );
