@@ -25,7 +25,7 @@ use serde::{Deserialize, Serialize};
 use crate::physics::body::RigidBody;
 use crate::physics::contact_colors::ContactColors;
 use crate::physics::forces::{self, EnvironmentForce};
-use crate::physics::impulse::{Arms, clamp_to_friction_disc, tangent_basis};
+use crate::physics::impulse::{clamp_to_friction_disc, tangent_basis};
 use crate::physics::integrate::{self, Integrator};
 use crate::physics::lanes::F64x4;
 use crate::physics::solver_bodies::{FIXED_SLOT, SharedBodies, SolverBodies, SolverBody};
@@ -342,8 +342,8 @@ pub struct SoftScratch {
     constraints: Vec<PointConstraint>,
     colors: ContactColors,
     user_forces: Vec<(DVec3, DVec3)>,
-    /// The environment's acceleration of each slot's body, at step start.
-    accelerations: Vec<DVec3>,
+    /// Each slot's body's motion at step start.
+    motions: Vec<SlotMotion>,
     bodies: SolverBodies,
 }
 
@@ -369,7 +369,7 @@ pub fn step(
         constraints,
         colors,
         user_forces,
-        accelerations,
+        motions,
         bodies: slots,
     } = scratch;
     slots.assign(bodies, awake);
@@ -377,14 +377,20 @@ pub fn step(
         .iter()
         .map(|c| [slots.slot_of(c.a), slots.slot_of(c.b)]);
     colors.assign(contact_slots, slots.slots.len(), FIXED_SLOT);
-    accelerations.clear();
-    accelerations.push(DVec3::ZERO); // the fixed slot: nothing that does not move accelerates
-    accelerations
-        .extend((awake.iter()).map(|&i| environment_acceleration(&bodies[i as usize], ctx.forces)));
+    motions.clear();
+    // The fixed slot: nothing that does not move accelerates (its velocities are not read).
+    motions.push(SlotMotion::default());
+    motions.extend((awake.iter()).map(|&i| SlotMotion::of(&bodies[i as usize], ctx.forces)));
     // Written in place: collecting would build each (large) constraint aside and copy it.
     constraints.resize(colors.order.len(), PointConstraint::default());
+    // A manifold's points share their normal, and so their tangents.
+    let mut basis = (DVec3::NAN, [DVec3::NAN; 2]);
     for (constraint, &k) in constraints.iter_mut().zip(&colors.order) {
-        *constraint = prepare(bodies, slots, &contacts[k as usize], accelerations, ctx.dt);
+        let contact = &contacts[k as usize];
+        if contact.normal != basis.0 {
+            basis = (contact.normal, tangent_basis(contact.normal));
+        }
+        *constraint = prepare(bodies, slots, contact, basis.1, motions, ctx.dt);
     }
     let shared = SharedBodies::new(&mut slots.slots);
     for constraint in constraints.iter() {
@@ -453,11 +459,42 @@ pub fn step(
     SoftStep { integrate_seconds }
 }
 
+/// What the preparation reads of a moving body, computed once per body rather than at each
+/// of its contact points.
+#[derive(Clone, Copy, Debug, Default)]
+struct SlotMotion {
+    /// The environment's acceleration at step start.
+    acceleration: DVec3,
+    velocity: DVec3,
+    angular_velocity: DVec3,
+}
+
+impl SlotMotion {
+    fn of(body: &RigidBody, forces: &[EnvironmentForce]) -> Self {
+        SlotMotion {
+            acceleration: environment_acceleration(body, forces),
+            velocity: body.velocity(),
+            angular_velocity: body.angular_velocity(),
+        }
+    }
+}
+
 fn environment_acceleration(body: &RigidBody, forces: &[EnvironmentForce]) -> DVec3 {
     if !body.is_awake() {
         return DVec3::ZERO;
     }
     forces.iter().map(|f| f.force_on(body)).sum::<DVec3>() * body.inv_mass
+}
+
+/// Velocity of the material point at `lever` from the body's centre of mass.
+#[inline(always)]
+fn point_velocity(body: &RigidBody, slot: u32, motions: &[SlotMotion], lever: DVec3) -> DVec3 {
+    if moves(slot) {
+        let motion = &motions[slot as usize];
+        motion.velocity + motion.angular_velocity.cross(lever)
+    } else {
+        body.velocity() + body.angular_velocity().cross(lever)
+    }
 }
 
 /// Speed at which two surfaces `gap` apart, closing at `speed` (< 0) under a constant
@@ -470,22 +507,24 @@ fn impact_speed(speed: f64, acceleration: f64, gap: f64) -> f64 {
     }
 }
 
+/// The constraint of one contact point, whose normal has the tangents `[t1, t2]`.
 fn prepare(
     bodies: &[RigidBody],
     slots: &SolverBodies,
     contact: &ContactInput,
-    accelerations: &[DVec3],
+    [t1, t2]: [DVec3; 2],
+    motions: &[SlotMotion],
     dt: f64,
 ) -> PointConstraint {
     let (a, b) = (&bodies[contact.a], &bodies[contact.b]);
     let normal = contact.normal;
-    let [t1, t2] = tangent_basis(normal);
     let directions = [normal, t1, t2];
-    let arms = Arms::at(bodies, contact.a, contact.b, contact.point);
-    let (r_a, r_b) = (arms.r_a, arms.r_b);
-    let approach_speed = normal.dot(arms.relative_velocity(bodies));
+    let (r_a, r_b) = (contact.point - a.position, contact.point - b.position);
     let (slot_a, slot_b) = (slots.slot_of(contact.a), slots.slot_of(contact.b));
-    let acceleration = |slot: u32| accelerations[slot as usize];
+    let relative_velocity =
+        point_velocity(b, slot_b, motions, r_b) - point_velocity(a, slot_a, motions, r_a);
+    let approach_speed = normal.dot(relative_velocity);
+    let acceleration = |slot: u32| motions[slot as usize].acceleration;
     let approach_acceleration = normal.dot(acceleration(slot_b) - acceleration(slot_a));
     let side_a = SideGeometry::new(a, slot_a, r_a, &directions);
     let side_b = SideGeometry::new(b, slot_b, r_b, &directions);
@@ -823,8 +862,22 @@ mod tests {
             },
         };
         let contacts = [contact(0, 1, 1.0), contact(0, 1, 2.0), contact(1, 2, 3.0)];
+        let motions = [
+            SlotMotion::default(),
+            SlotMotion::of(&bodies[1], &[]),
+            SlotMotion::of(&bodies[2], &[]),
+        ];
         let constraints = (contacts.iter())
-            .map(|c| prepare(&bodies, &slots, c, &[DVec3::ZERO; 3], 1.0 / 60.0))
+            .map(|c| {
+                prepare(
+                    &bodies,
+                    &slots,
+                    c,
+                    tangent_basis(c.normal),
+                    &motions,
+                    1.0 / 60.0,
+                )
+            })
             .collect();
         (bodies, slots, constraints)
     }
