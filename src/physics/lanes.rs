@@ -7,8 +7,21 @@
 //!
 //! Every lane computes exactly what the scalar code would (same operations, same order; no
 //! fused multiply-add), so results do not depend on whether the lanes are packed.
+//!
+//! `F64x4` is how lanes are stored, and its own arithmetic is plain code that the compiler
+//! packs as it sees fit. The solver's passes are generic over `Lanes`, the arithmetic they
+//! compute with: `Portable` (that plain code, on any processor) or, on x86_64 processors
+//! with AVX2, `Avx2`, one packed instruction per operation. Left to itself the compiler split
+//! much of the pass into two-lane halves; with `Avx2` the pyramid at 4 substeps ran 10 % fewer
+//! instructions in all (413 to 372 M).
 
 use std::ops::{Add, AddAssign, Mul, Neg, Sub};
+
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::{
+    __m256d, _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_permute4x64_pd, _mm256_set1_pd,
+    _mm256_storeu_pd, _mm256_sub_pd, _mm256_xor_pd,
+};
 
 use glam::DVec3;
 
@@ -129,6 +142,174 @@ impl Neg for F64x4 {
     }
 }
 
+/// The arithmetic a solver pass computes its lanes with (see the module comment).
+pub trait Lanes: Copy {
+    type Vector: LaneVector;
+    fn load(self, stored: F64x4) -> Self::Vector;
+}
+
+/// Four lanes in registers, loaded from an `F64x4` and stored back to one.
+pub trait LaneVector:
+    Copy
+    + Add<Output = Self>
+    + AddAssign
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Mul<f64, Output = Self>
+    + Neg<Output = Self>
+{
+    fn store(self) -> F64x4;
+    /// The cross product of lanes 0 to 2, as `F64x4::cross`.
+    fn cross(self, other: Self) -> Self;
+
+    #[inline(always)]
+    fn lane(self, k: usize) -> f64 {
+        self.store().lane(k)
+    }
+
+    #[inline(always)]
+    fn dot3(self, v: DVec3) -> f64 {
+        self.store().dot3(v)
+    }
+}
+
+/// `F64x4`'s own arithmetic, on any processor.
+#[derive(Clone, Copy, Debug)]
+pub struct Portable;
+
+impl Lanes for Portable {
+    type Vector = F64x4;
+    #[inline(always)]
+    fn load(self, stored: F64x4) -> F64x4 {
+        stored
+    }
+}
+
+impl LaneVector for F64x4 {
+    #[inline(always)]
+    fn store(self) -> F64x4 {
+        self
+    }
+    #[inline(always)]
+    fn cross(self, other: F64x4) -> F64x4 {
+        F64x4::cross(self, other)
+    }
+}
+
+/// Packed AVX2 arithmetic. Only `Avx2::detect` makes one, on a processor that has AVX2, and
+/// only an `Avx2` loads or makes `Avx2Vector`s: a vector's existence proves the instructions
+/// it runs are there.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy, Debug)]
+pub struct Avx2(());
+
+#[cfg(target_arch = "x86_64")]
+impl Avx2 {
+    pub fn detect() -> Option<Avx2> {
+        std::arch::is_x86_feature_detected!("avx2").then_some(Avx2(()))
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy, Debug)]
+pub struct Avx2Vector(__m256d);
+
+#[cfg(target_arch = "x86_64")]
+impl Lanes for Avx2 {
+    type Vector = Avx2Vector;
+    #[inline(always)]
+    fn load(self, stored: F64x4) -> Avx2Vector {
+        // SAFETY: `self` proves AVX2 (see `Avx2`); the pointer reads the four lanes.
+        Avx2Vector(unsafe { _mm256_loadu_pd(stored.0.as_ptr()) })
+    }
+}
+
+/// The SAFETY of every intrinsic below: an `Avx2Vector` exists only where AVX2 was detected.
+#[cfg(target_arch = "x86_64")]
+impl LaneVector for Avx2Vector {
+    #[inline(always)]
+    fn store(self) -> F64x4 {
+        let mut stored = F64x4::ZERO;
+        // SAFETY: see the impl; the pointer writes the four lanes.
+        unsafe { _mm256_storeu_pd(stored.0.as_mut_ptr(), self.0) };
+        stored
+    }
+
+    #[inline(always)]
+    fn cross(self, other: Avx2Vector) -> Avx2Vector {
+        // Lanes (y, z, x, w) and (z, x, y, w), as `F64x4::cross` builds them.
+        const YZX: i32 = 0b11_00_10_01;
+        const ZXY: i32 = 0b11_01_00_10;
+        // SAFETY: see the impl.
+        unsafe {
+            let yzx = |v: __m256d| _mm256_permute4x64_pd::<YZX>(v);
+            let zxy = |v: __m256d| _mm256_permute4x64_pd::<ZXY>(v);
+            let left = _mm256_mul_pd(yzx(self.0), zxy(other.0));
+            let right = _mm256_mul_pd(yzx(other.0), zxy(self.0));
+            Avx2Vector(_mm256_sub_pd(left, right))
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Add for Avx2Vector {
+    type Output = Avx2Vector;
+    #[inline(always)]
+    fn add(self, other: Avx2Vector) -> Avx2Vector {
+        // SAFETY: see `impl LaneVector for Avx2Vector`.
+        Avx2Vector(unsafe { _mm256_add_pd(self.0, other.0) })
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl AddAssign for Avx2Vector {
+    #[inline(always)]
+    fn add_assign(&mut self, other: Avx2Vector) {
+        *self = *self + other;
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Sub for Avx2Vector {
+    type Output = Avx2Vector;
+    #[inline(always)]
+    fn sub(self, other: Avx2Vector) -> Avx2Vector {
+        // SAFETY: see `impl LaneVector for Avx2Vector`.
+        Avx2Vector(unsafe { _mm256_sub_pd(self.0, other.0) })
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Mul for Avx2Vector {
+    type Output = Avx2Vector;
+    #[inline(always)]
+    fn mul(self, other: Avx2Vector) -> Avx2Vector {
+        // SAFETY: see `impl LaneVector for Avx2Vector`.
+        Avx2Vector(unsafe { _mm256_mul_pd(self.0, other.0) })
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Mul<f64> for Avx2Vector {
+    type Output = Avx2Vector;
+    #[inline(always)]
+    fn mul(self, scale: f64) -> Avx2Vector {
+        // SAFETY: see `impl LaneVector for Avx2Vector`.
+        Avx2Vector(unsafe { _mm256_mul_pd(self.0, _mm256_set1_pd(scale)) })
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Neg for Avx2Vector {
+    type Output = Avx2Vector;
+    #[inline(always)]
+    fn neg(self) -> Avx2Vector {
+        // Flipping the sign bit is what negation does, zeros and NaNs included.
+        // SAFETY: see `impl LaneVector for Avx2Vector`.
+        Avx2Vector(unsafe { _mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)) })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -145,5 +326,27 @@ mod tests {
         assert_eq!(la.cross(lb).to_vec3(), a.cross(b));
         let t = F64x4::transpose([a, b, a + b]);
         assert_eq!([t[0].lane(1), t[1].lane(1), t[2].lane(1)], [b.x, b.y, b.z]);
+    }
+
+    /// Both backends give the same bits, the padding lane and signed zeros included.
+    #[test]
+    fn packed_lanes_compute_what_portable_lanes_compute() {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx) = Avx2::detect() {
+            let a = F64x4([0.1, -2.7, 1e-3, 0.0]);
+            let b = F64x4([3.3, 0.7, -1.9, -0.0]);
+            let same = |packed: F64x4, portable: F64x4| {
+                assert_eq!(packed.0.map(f64::to_bits), portable.0.map(f64::to_bits))
+            };
+            let (pa, pb) = (avx.load(a), avx.load(b));
+            same((pa + pb).store(), a + b);
+            same((pa - pb).store(), a - b);
+            same((pa * pb).store(), a * b);
+            same((pa * 0.3).store(), a * 0.3);
+            same((-pa).store(), -a);
+            same((-pb).store(), -b);
+            same(pa.cross(pb).store(), a.cross(b));
+            assert_eq!(pa.dot3(DVec3::X), a.dot3(DVec3::X));
+        }
     }
 }

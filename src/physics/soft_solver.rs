@@ -27,8 +27,10 @@ use crate::physics::contact_colors::ContactColors;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::impulse::{clamp_to_friction_disc, tangent_basis};
 use crate::physics::integrate::{self, Integrator};
-use crate::physics::lanes::F64x4;
-use crate::physics::solver_bodies::{FIXED_SLOT, SharedBodies, SolverBodies, SolverBody};
+#[cfg(target_arch = "x86_64")]
+use crate::physics::lanes::Avx2;
+use crate::physics::lanes::{F64x4, LaneVector, Lanes, Portable};
+use crate::physics::solver_bodies::{FIXED_SLOT, Push, SharedBodies, SolverBodies, SolverBody};
 use crate::physics::stage_times::Stopwatch;
 
 /// A contact point handed to the solver. The normal points from body `a` to body `b`.
@@ -151,23 +153,30 @@ impl Side {
     /// Velocity of the body's material point at the contact, v + ω × r, both derived from
     /// the momenta (ω = I⁻¹ A with the step's world inertia).
     #[inline(always)]
-    fn point_velocity(&self, body: &SolverBody) -> F64x4 {
+    fn point_velocity<L: Lanes>(&self, l: L, body: &SolverBody) -> L::Vector {
         let [p, a] = [body.linear_momentum, body.angular_momentum];
-        let [x, y, z] = body.inv_inertia;
+        let [x, y, z] = load3(l, &body.inv_inertia);
         let spin = x * a.lane(0) + y * a.lane(1) + z * a.lane(2);
-        p * body.inv_mass + spin.cross(self.lever)
+        l.load(p) * body.inv_mass + spin.cross(l.load(self.lever))
     }
 
     #[inline(always)]
-    fn anchor_in_world(&self, bodies: &SharedBodies, slot: u32) -> F64x4 {
+    fn anchor_in_world<L: Lanes>(&self, l: L, bodies: &SharedBodies, slot: u32) -> L::Vector {
         if !moves(slot) {
-            return self.anchor; // without reading the slot: this runs every pass
+            return l.load(self.anchor); // without reading the slot: this runs every pass
         }
         let body = bodies.get(slot);
-        let [x, y, z] = body.orientation;
+        let [x, y, z] = load3(l, &body.orientation);
         let anchor = self.anchor;
-        body.position + (x * anchor.lane(0) + y * anchor.lane(1) + z * anchor.lane(2))
+        l.load(body.position) + (x * anchor.lane(0) + y * anchor.lane(1) + z * anchor.lane(2))
     }
+}
+
+/// Three stored lanes, loaded (written out: an array's `map` is not always inlined, and
+/// would then run without the packed instructions).
+#[inline(always)]
+fn load3<L: Lanes>(l: L, stored: &[F64x4; 3]) -> [L::Vector; 3] {
+    [l.load(stored[0]), l.load(stored[1]), l.load(stored[2])]
 }
 
 /// The body's inverse mass as the impulses see it: zero when it does not move.
@@ -239,52 +248,65 @@ impl PointConstraint {
     /// The relative speeds of b's material point over a's along the normal and both
     /// tangents.
     #[inline(always)]
-    fn speeds(&self, bodies: &SharedBodies) -> [f64; 3] {
+    fn speeds<L: Lanes>(&self, l: L, bodies: &SharedBodies) -> [f64; 3] {
         let [slot_a, slot_b] = self.slots;
-        let relative =
-            self.b.point_velocity(bodies.get(slot_b)) - self.a.point_velocity(bodies.get(slot_a));
-        let [x, y, z] = self.across;
+        let relative = self.b.point_velocity(l, bodies.get(slot_b))
+            - self.a.point_velocity(l, bodies.get(slot_a));
+        let [x, y, z] = load3(l, &self.across);
         let speeds = x * relative.lane(0) + y * relative.lane(1) + z * relative.lane(2);
         [speeds.lane(0), speeds.lane(1), speeds.lane(2)]
     }
 
     /// The impulse Σ λ d of impulses λ along the three directions.
     #[inline(always)]
-    fn along_directions(&self, lambda: [f64; 3]) -> F64x4 {
-        let [n, t1, t2] = self.directions;
+    fn along_directions<L: Lanes>(&self, l: L, lambda: [f64; 3]) -> L::Vector {
+        let [n, t1, t2] = load3(l, &self.directions);
         n * lambda[0] + t1 * lambda[1] + t2 * lambda[2]
     }
 
     /// Impulses λ along the three directions: +Σ λ d to b, −Σ λ d to a, at their levers.
     #[inline(always)]
-    fn apply(&self, bodies: &SharedBodies, lambda: [f64; 3]) {
-        let add = |slot, linear, angular| bodies.add(slot, linear, angular);
-        self.push(self.along_directions(lambda), add);
+    fn apply<L: Lanes>(&self, l: L, bodies: &SharedBodies, lambda: [f64; 3]) {
+        let [to_a, to_b] = self.on_each_body(l, self.along_directions(l, lambda));
+        bodies.add(l, to_a);
+        bodies.add(l, to_b);
     }
 
     /// A normal impulse only.
-    fn apply_normal(&self, bodies: &SharedBodies, lambda: f64) {
-        let add = |slot, linear, angular| bodies.add(slot, linear, angular);
-        self.push(self.directions[0] * lambda, add);
+    fn apply_normal<L: Lanes>(&self, l: L, bodies: &SharedBodies, lambda: f64) {
+        let [to_a, to_b] = self.on_each_body(l, l.load(self.directions[0]) * lambda);
+        bodies.add(l, to_a);
+        bodies.add(l, to_b);
     }
 
     /// Adds the impulse the contact holds to its bodies' next warm start.
     #[inline(always)]
-    fn add_to_warm_start(&self, bodies: &SharedBodies) {
+    fn add_to_warm_start<L: Lanes>(&self, l: L, bodies: &SharedBodies) {
         let [tangent_1, tangent_2] = self.impulse.tangent;
-        let linear = self.along_directions([self.impulse.normal, tangent_1, tangent_2]);
-        self.push(linear, |slot, linear, angular| {
-            bodies.add_warm_start(slot, linear, angular)
-        });
+        let linear = self.along_directions(l, [self.impulse.normal, tangent_1, tangent_2]);
+        let [to_a, to_b] = self.on_each_body(l, linear);
+        bodies.add_warm_start(l, to_a);
+        bodies.add_warm_start(l, to_b);
     }
 
-    /// The impulse J to b and −J to a, each at its lever, handed to `add` (the momenta, or
-    /// the next warm start) as a linear and an angular part.
+    /// The impulse J to b and −J to a, each at its lever. (Returned rather than handed to a
+    /// closure: a closure is compiled without the packed instructions, and was left out of
+    /// line once it called them.)
     #[inline(always)]
-    fn push(&self, linear: F64x4, add: impl Fn(u32, F64x4, F64x4)) {
+    fn on_each_body<L: Lanes>(&self, l: L, linear: L::Vector) -> [Push<L::Vector>; 2] {
         let [slot_a, slot_b] = self.slots;
-        add(slot_a, -linear, -self.a.lever.cross(linear));
-        add(slot_b, linear, self.b.lever.cross(linear));
+        [
+            Push {
+                slot: slot_a,
+                linear: -linear,
+                angular: -l.load(self.a.lever).cross(linear),
+            },
+            Push {
+                slot: slot_b,
+                linear,
+                angular: l.load(self.b.lever).cross(linear),
+            },
+        ]
     }
 
     /// The next point of the same manifold (or of one between the same two bodies).
@@ -394,7 +416,7 @@ pub fn step(
     }
     let shared = SharedBodies::new(&mut slots.slots);
     for constraint in constraints.iter() {
-        constraint.add_to_warm_start(&shared);
+        constraint.add_to_warm_start(Portable, &shared);
     }
     let substeps = ctx.settings.substeps.max(1);
     let h = ctx.dt / substeps as f64;
@@ -631,26 +653,39 @@ fn for_each_contact(
     }
 }
 
-/// `pass` on these contacts in order, with the lanes (see `lanes`) four to an instruction
-/// where the processor has AVX2 and two otherwise. Both compute the same bits.
+/// `pass` on these contacts in order, with the lanes (see `lanes`) packed four to an
+/// instruction where the processor has AVX2, and as the compiler packs them otherwise. Both
+/// compute the same bits.
 fn run_pass(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2, as just checked.
-        return unsafe { run_pass_avx2(pass, bodies, contacts, h) };
+    if let Some(avx) = Avx2::detect() {
+        // SAFETY: the processor has AVX2, as `avx` proves.
+        return unsafe { run_pass_avx2(avx, pass, bodies, contacts, h) };
     }
-    run_pass_inline(pass, bodies, contacts, h);
+    run_pass_inline(Portable, pass, bodies, contacts, h);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn run_pass_avx2(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
-    run_pass_inline(pass, bodies, contacts, h);
+fn run_pass_avx2(
+    avx: Avx2,
+    pass: Pass,
+    bodies: &SharedBodies,
+    contacts: &mut [PointConstraint],
+    h: f64,
+) {
+    run_pass_inline(avx, pass, bodies, contacts, h);
 }
 
 /// The body of `run_pass`, compiled into each of its variants.
 #[inline(always)]
-fn run_pass_inline(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
+fn run_pass_inline<L: Lanes>(
+    l: L,
+    pass: Pass,
+    bodies: &SharedBodies,
+    contacts: &mut [PointConstraint],
+    h: f64,
+) {
     // Plain loops: an iterator adaptor's closure may be left out of line, and would then be
     // compiled without the variant's instructions.
     match pass {
@@ -659,15 +694,15 @@ fn run_pass_inline(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConst
             max_push_out,
         } => {
             for c in contacts {
-                solve(bodies, c, h, Some((softness, max_push_out)));
+                solve(l, bodies, c, h, Some((softness, max_push_out)));
             }
         }
         Pass::Relax { warm_start_next } => {
             for c in contacts {
-                c.separation = current_separation(bodies, c);
-                solve(bodies, c, h, None);
+                c.separation = current_separation(l, bodies, c);
+                solve(l, bodies, c, h, None);
                 if warm_start_next {
-                    c.add_to_warm_start(bodies);
+                    c.add_to_warm_start(l, bodies);
                 }
             }
         }
@@ -686,11 +721,11 @@ fn fastest_approach(speed: f64, acceleration: f64, contact: &ContactInput, dt: f
 
 /// Current separation: the anchors carried along by the bodies' motion in this step.
 #[inline(always)]
-fn current_separation(bodies: &SharedBodies, c: &PointConstraint) -> f64 {
+fn current_separation<L: Lanes>(l: L, bodies: &SharedBodies, c: &PointConstraint) -> f64 {
     let [slot_a, slot_b] = c.slots;
     let (anchor_a, anchor_b) = (
-        c.a.anchor_in_world(bodies, slot_a),
-        c.b.anchor_in_world(bodies, slot_b),
+        c.a.anchor_in_world(l, bodies, slot_a),
+        c.b.anchor_in_world(l, bodies, slot_b),
     );
     (anchor_b - anchor_a).dot3(c.normal()) + c.separation_offset
 }
@@ -698,8 +733,14 @@ fn current_separation(bodies: &SharedBodies, c: &PointConstraint) -> f64 {
 /// One contact's share of a pass: normal (soft or rigid) then friction, applied together.
 /// `bias` is the softness and push-out cap when solving with position bias, None to relax.
 #[inline(always)]
-fn solve(bodies: &SharedBodies, c: &mut PointConstraint, h: f64, bias: Option<(Softness, f64)>) {
-    let speeds = c.speeds(bodies);
+fn solve<L: Lanes>(
+    l: L,
+    bodies: &SharedBodies,
+    c: &mut PointConstraint,
+    h: f64,
+    bias: Option<(Softness, f64)>,
+) {
+    let speeds = c.speeds(l, bodies);
     let normal = solve_normal(c, speeds[0], h, bias);
     // Skipped when no normal impulse is added: on an absurd contact (a body flung 1e298 m
     // away) the coupling overflows, and 0 · ∞ would poison the friction of the other body.
@@ -712,7 +753,7 @@ fn solve(bodies: &SharedBodies, c: &mut PointConstraint, h: f64, bias: Option<(S
         ]
     };
     let [t1, t2] = solve_friction(c, tangent_speeds);
-    c.apply(bodies, [normal, t1, t2]);
+    c.apply(l, bodies, [normal, t1, t2]);
 }
 
 /// The normal impulse this pass adds, at the relative normal speed `normal_speed`.
@@ -789,12 +830,12 @@ fn apply_restitution(bodies: &SharedBodies, c: &mut PointConstraint, threshold: 
         return;
     }
     let gap = c.separation.max(0.0);
-    let [normal_speed, _, _] = c.speeds(bodies);
+    let [normal_speed, _, _] = c.speeds(Portable, bodies);
     let delta = -c.normal_mass * (normal_speed - rebound_speed(c, gap, h));
     let accumulated = (c.impulse.normal + delta).max(0.0);
     let applied = accumulated - c.impulse.normal;
     c.impulse.normal = accumulated;
-    c.apply_normal(bodies, applied);
+    c.apply_normal(Portable, bodies, applied);
 }
 
 /// The normal speed a bounce leaves with, `gap` apart, under the relative acceleration a.
@@ -885,7 +926,7 @@ mod tests {
     #[test]
     fn packed_and_unpacked_passes_compute_the_same_bits() {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if let Some(avx) = Avx2::detect() {
             let softness = Softness::new(60.0, 10.0, 1.0 / 480.0);
             let passes = [
                 Pass::Biased {
@@ -901,14 +942,16 @@ mod tests {
             for pass in passes {
                 let h = 1.0 / 480.0;
                 run_pass_inline(
+                    Portable,
                     pass,
                     &SharedBodies::new(&mut slots_inline.slots),
                     &mut inline,
                     h,
                 );
-                // SAFETY: the processor has AVX2, as checked above.
+                // SAFETY: the processor has AVX2, as `avx` proves.
                 unsafe {
                     run_pass_avx2(
+                        avx,
                         pass,
                         &SharedBodies::new(&mut slots_packed.slots),
                         &mut packed,

@@ -11,7 +11,7 @@ use std::marker::PhantomData;
 use glam::DMat3;
 
 use crate::physics::body::RigidBody;
-use crate::physics::lanes::F64x4;
+use crate::physics::lanes::{F64x4, LaneVector, Lanes};
 
 /// The part of a body that a pass over the contacts reads and changes, as lanes (see
 /// `lanes`): matrices by columns. What every pass reads comes first.
@@ -168,33 +168,43 @@ impl<'a> SharedBodies<'a> {
         unsafe { &*self.slots.add(slot as usize) }
     }
 
-    /// Changes a moving body's slot with `change`; does nothing for `FIXED_SLOT`, which is
-    /// never written.
+    /// A moving body's slot; None for `FIXED_SLOT`, which is never written.
     #[inline(always)]
-    fn change_moving(&self, slot: u32, change: impl FnOnce(&mut SolverBody)) {
+    #[allow(clippy::mut_from_ref)] // the colouring makes this slot this thread's alone
+    fn moving(&self, slot: u32) -> Option<&mut SolverBody> {
         if slot == FIXED_SLOT {
-            return;
+            return None;
         }
         assert!((slot as usize) < self.len, "slot {slot} out of range");
-        // SAFETY: in range, and only this thread reaches this slot in this colour.
-        change(unsafe { &mut *self.slots.add(slot as usize) });
+        // SAFETY: in range, and only this thread reaches this slot in this colour; the
+        // reference is used for one update and dropped before the slot is reached again.
+        Some(unsafe { &mut *self.slots.add(slot as usize) })
     }
 
-    /// Adds to a moving body's momenta; does nothing for `FIXED_SLOT`.
+    /// Adds an impulse to a moving body's momenta; does nothing for `FIXED_SLOT`.
     #[inline(always)]
-    pub fn add(&self, slot: u32, linear: F64x4, angular: F64x4) {
-        self.change_moving(slot, |body| {
-            body.linear_momentum += linear;
-            body.angular_momentum += angular;
-        });
+    pub fn add<L: Lanes>(&self, l: L, push: Push<L::Vector>) {
+        if let Some(body) = self.moving(push.slot) {
+            body.linear_momentum = (l.load(body.linear_momentum) + push.linear).store();
+            body.angular_momentum = (l.load(body.angular_momentum) + push.angular).store();
+        }
     }
 
-    /// Adds to a moving body's next warm start (see `add`).
+    /// Adds an impulse to a moving body's next warm start (see `add`).
     #[inline(always)]
-    pub fn add_warm_start(&self, slot: u32, linear: F64x4, angular: F64x4) {
-        self.change_moving(slot, |body| {
-            body.warm_start[0] += linear;
-            body.warm_start[1] += angular;
-        });
+    pub fn add_warm_start<L: Lanes>(&self, l: L, push: Push<L::Vector>) {
+        if let Some(body) = self.moving(push.slot) {
+            body.warm_start[0] = (l.load(body.warm_start[0]) + push.linear).store();
+            body.warm_start[1] = (l.load(body.warm_start[1]) + push.angular).store();
+        }
     }
+}
+
+/// An impulse on one body at a contact: its linear part and its moment about the centre of
+/// mass.
+#[derive(Clone, Copy, Debug)]
+pub struct Push<V> {
+    pub slot: u32,
+    pub linear: V,
+    pub angular: V,
 }
