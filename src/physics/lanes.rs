@@ -2,8 +2,8 @@
 //!
 //! glam's f64 vectors compute one component at a time. A contact point's work comes in
 //! threes instead: the speeds along its normal and two tangents, and the three components of
-//! an impulse. `F64x4` holds such a triple (the fourth lane is padding) and does each
-//! operation on all lanes at once; the compiler turns that into packed instructions.
+//! an impulse. `F64x4` holds such a triple (the fourth lane is padding), and the solver does
+//! each operation on all lanes at once.
 //!
 //! Every lane computes exactly what the scalar code would (same operations, same order; no
 //! fused multiply-add), so results do not depend on whether the lanes are packed.

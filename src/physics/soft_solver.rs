@@ -399,10 +399,7 @@ pub fn step(
         .iter()
         .map(|c| [slots.slot_of(c.a), slots.slot_of(c.b)]);
     colors.assign(contact_slots, slots.slots.len(), FIXED_SLOT);
-    motions.clear();
-    // The fixed slot: nothing that does not move accelerates (its velocities are not read).
-    motions.push(SlotMotion::default());
-    motions.extend((awake.iter()).map(|&i| SlotMotion::of(&bodies[i as usize], ctx.forces)));
+    SlotMotion::gather(motions, bodies, awake, ctx.forces);
     // Written in place: collecting would build each (large) constraint aside and copy it.
     constraints.resize(colors.order.len(), PointConstraint::default());
     // A manifold's points share their normal, and so their tangents.
@@ -492,6 +489,19 @@ struct SlotMotion {
 }
 
 impl SlotMotion {
+    /// Into `motions`, slot by slot: the fixed slot, then the `awake` bodies in slot order.
+    fn gather(
+        motions: &mut Vec<SlotMotion>,
+        bodies: &[RigidBody],
+        awake: &[u32],
+        forces: &[EnvironmentForce],
+    ) {
+        motions.clear();
+        // The fixed slot: nothing that does not move accelerates (its velocities are not read).
+        motions.push(SlotMotion::default());
+        motions.extend((awake.iter()).map(|&i| SlotMotion::of(&bodies[i as usize], forces)));
+    }
+
     fn of(body: &RigidBody, forces: &[EnvironmentForce]) -> Self {
         SlotMotion {
             acceleration: environment_acceleration(body, forces),
@@ -508,9 +518,10 @@ fn environment_acceleration(body: &RigidBody, forces: &[EnvironmentForce]) -> DV
     forces.iter().map(|f| f.force_on(body)).sum::<DVec3>() * body.inv_mass
 }
 
-/// Velocity of the material point at `lever` from the body's centre of mass.
+/// Velocity at step start of the material point at `lever` from the body's centre of mass
+/// (the passes take theirs from the momenta: `Side::point_velocity`).
 #[inline(always)]
-fn point_velocity(body: &RigidBody, slot: u32, motions: &[SlotMotion], lever: DVec3) -> DVec3 {
+fn velocity_at_start(body: &RigidBody, slot: u32, motions: &[SlotMotion], lever: DVec3) -> DVec3 {
     if moves(slot) {
         let motion = &motions[slot as usize];
         motion.velocity + motion.angular_velocity.cross(lever)
@@ -544,7 +555,7 @@ fn prepare(
     let (r_a, r_b) = (contact.point - a.position, contact.point - b.position);
     let (slot_a, slot_b) = (slots.slot_of(contact.a), slots.slot_of(contact.b));
     let relative_velocity =
-        point_velocity(b, slot_b, motions, r_b) - point_velocity(a, slot_a, motions, r_a);
+        velocity_at_start(b, slot_b, motions, r_b) - velocity_at_start(a, slot_a, motions, r_a);
     let approach_speed = normal.dot(relative_velocity);
     let acceleration = |slot: u32| motions[slot as usize].acceleration;
     let approach_acceleration = normal.dot(acceleration(slot_b) - acceleration(slot_a));
@@ -903,11 +914,8 @@ mod tests {
             },
         };
         let contacts = [contact(0, 1, 1.0), contact(0, 1, 2.0), contact(1, 2, 3.0)];
-        let motions = [
-            SlotMotion::default(),
-            SlotMotion::of(&bodies[1], &[]),
-            SlotMotion::of(&bodies[2], &[]),
-        ];
+        let mut motions = Vec::new();
+        SlotMotion::gather(&mut motions, &bodies, &[1, 2], &[]);
         let constraints = (contacts.iter())
             .map(|c| {
                 prepare(
