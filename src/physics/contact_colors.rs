@@ -14,8 +14,16 @@
 //! in contact order on stacks (bodies are added bottom up, so pairs run bottom up): the
 //! 20-layer pyramid (about 1600 contact points), awake, shook at 8.4 mm/s in colour order
 //! against 3.2 mm/s. So only steps with at least `MIN_COLORED_CONTACTS` contacts are
-//! coloured, where the threads pay most; smaller ones keep contact order in one serial
-//! colour.
+//! coloured, where the threads pay most; smaller ones are solved serially with the result
+//! of contact order.
+//!
+//! Serially, contact order itself is a chain: the points of a manifold, and the manifolds
+//! up a stack, each wait for the impulse before them on a shared body, and the processor
+//! cannot start one before the last is stored. So the contacts are put in waves instead:
+//! a contact's wave is one past the latest wave of the contacts before it on either of its
+//! moving bodies. Contacts on a shared moving body keep their contact order, and the others
+//! touch disjoint bodies, so wave order gives contact order's result to the last bit, while
+//! neighbours in it are independent and overlap in the processor.
 
 use std::ops::Range;
 
@@ -28,9 +36,9 @@ const SERIAL_COLOR: usize = MAX_COLORS - 1;
 /// The contacts in colour order, kept between steps so that no step allocates.
 #[derive(Clone, Debug, Default)]
 pub struct ContactColors {
-    /// Contact indices, colour by colour; within a colour, in contact order.
+    /// Contact indices, colour by colour (or wave by wave); within one, in contact order.
     pub order: Vec<u32>,
-    /// Where colour k's contacts are in `order`: `starts[k]..starts[k + 1]`.
+    /// Where colour (or wave) k's contacts are in `order`: `starts[k]..starts[k + 1]`.
     starts: Vec<usize>,
     /// The next free place of each colour while sorting.
     next: Vec<usize>,
@@ -38,8 +46,10 @@ pub struct ContactColors {
     used_ranges: Vec<(Range<usize>, bool)>,
     /// The colours each moving body already has, one bit per colour, by slot.
     used: Vec<u64>,
-    /// The colour of each contact.
-    color_of: Vec<u8>,
+    /// The colour or, when not coloured, the wave of each contact: what it is sorted by.
+    key_of: Vec<u32>,
+    /// The latest wave of each moving body's contacts so far, by slot.
+    last_wave: Vec<u32>,
     /// Where each contact ended up in `order`.
     pub position_of: Vec<u32>,
 }
@@ -53,21 +63,55 @@ impl ContactColors {
         slot_count: usize,
         fixed_slot: u32,
     ) {
+        self.key_of.clear();
+        if slots.len() >= MIN_COLORED_CONTACTS {
+            self.color(slots, slot_count, fixed_slot);
+            self.sort_by_key(MAX_COLORS);
+            self.collect_color_ranges();
+        } else {
+            let waves = self.put_in_waves(slots, slot_count, fixed_slot);
+            self.sort_by_key(waves);
+            self.used_ranges.clear();
+            self.used_ranges.push((0..self.order.len(), false));
+        }
+    }
+
+    fn color(&mut self, slots: impl Iterator<Item = [u32; 2]>, slot_count: usize, fixed_slot: u32) {
         self.used.clear();
         self.used.resize(slot_count, 0);
-        self.color_of.clear();
-        let colored = slots.len() >= MIN_COLORED_CONTACTS;
         let mut unit: Option<([u32; 2], usize)> = None;
         for pair in slots {
             let color = match unit {
-                _ if !colored => SERIAL_COLOR,
                 Some((current, color)) if current == pair => color,
                 _ => self.first_free(pair, fixed_slot),
             };
             unit = Some((pair, color));
-            self.color_of.push(color as u8);
+            self.key_of.push(color as u32);
         }
-        self.sort_by_color();
+    }
+
+    /// Gives each contact its wave (see the module comment); returns the number of waves.
+    fn put_in_waves(
+        &mut self,
+        slots: impl Iterator<Item = [u32; 2]>,
+        slot_count: usize,
+        fixed_slot: u32,
+    ) -> usize {
+        self.last_wave.clear();
+        self.last_wave.resize(slot_count, 0);
+        // The fixed slot is never written, so it orders nothing: its wave stays 0.
+        let mut waves = 0;
+        for [a, b] in slots {
+            let wave = self.last_wave[a as usize].max(self.last_wave[b as usize]) + 1;
+            for slot in [a, b] {
+                if slot != fixed_slot {
+                    self.last_wave[slot as usize] = wave;
+                }
+            }
+            self.key_of.push(wave - 1);
+            waves = waves.max(wave as usize);
+        }
+        waves
     }
 
     /// The lowest colour neither moving body has, taken for both.
@@ -83,29 +127,28 @@ impl ContactColors {
         color
     }
 
-    /// A counting sort of the contacts by colour, stable within each colour.
-    fn sort_by_color(&mut self) {
+    /// A counting sort of the contacts by key (below `key_count`), stable within a key.
+    fn sort_by_key(&mut self, key_count: usize) {
         self.starts.clear();
-        self.starts.resize(MAX_COLORS + 1, 0);
-        for &color in &self.color_of {
-            self.starts[color as usize + 1] += 1;
+        self.starts.resize(key_count + 1, 0);
+        for &key in &self.key_of {
+            self.starts[key as usize + 1] += 1;
         }
-        for k in 0..MAX_COLORS {
+        for k in 0..key_count {
             self.starts[k + 1] += self.starts[k];
         }
         self.next.clear();
         self.next.extend_from_slice(&self.starts);
         self.order.clear();
-        self.order.resize(self.color_of.len(), 0);
+        self.order.resize(self.key_of.len(), 0);
         self.position_of.clear();
-        self.position_of.resize(self.color_of.len(), 0);
-        for (contact, &color) in self.color_of.iter().enumerate() {
-            let position = self.next[color as usize];
-            self.next[color as usize] += 1;
+        self.position_of.resize(self.key_of.len(), 0);
+        for (contact, &key) in self.key_of.iter().enumerate() {
+            let position = self.next[key as usize];
+            self.next[key as usize] += 1;
             self.order[position] = contact as u32;
             self.position_of[contact] = position as u32;
         }
-        self.collect_ranges();
     }
 
     /// The ranges of the colour-ordered contacts, one per colour in use, and whether the
@@ -114,7 +157,7 @@ impl ContactColors {
         self.used_ranges.iter().cloned()
     }
 
-    fn collect_ranges(&mut self) {
+    fn collect_color_ranges(&mut self) {
         self.used_ranges.clear();
         for k in 0..MAX_COLORS {
             let range = self.starts[k]..self.starts[k + 1];
@@ -154,15 +197,55 @@ mod tests {
         (all, (count * bodies + 1) as usize)
     }
 
-    /// Too few contacts: one serial colour in contact order.
+    /// Too few contacts: one serial range; a chain through moving bodies keeps its order.
     #[test]
     fn few_contacts_keep_contact_order() {
         let pairs = [[0, 1], [1, 2], [2, 3]];
-        let mut colors = ContactColors::default();
-        colors.assign(pairs.iter().copied(), 4, FIXED);
+        let colors = colored(&pairs, 4);
         let ranges: Vec<_> = colors.ranges().collect();
         assert_eq!(ranges, vec![(0..3, false)]);
         assert_eq!(colors.order, vec![0, 1, 2]);
+    }
+
+    /// Two manifolds on the ground, on different bodies: their points alternate, each
+    /// manifold's in its own order.
+    #[test]
+    fn independent_manifolds_interleave() {
+        let pairs = [[0, 1], [0, 1], [0, 1], [1, 2], [0, 3], [0, 3]];
+        let colors = colored(&pairs, 4);
+        // Waves: 1 2 3 4 for body 1 (then 2 on it), 1 2 for body 3.
+        assert_eq!(colors.order, vec![0, 4, 1, 5, 2, 3]);
+        for (contact, &position) in colors.position_of.iter().enumerate() {
+            assert_eq!(colors.order[position as usize], contact as u32);
+        }
+    }
+
+    /// In wave order, every two contacts that share a moving body keep their contact order:
+    /// what makes the serial result that of contact order.
+    #[test]
+    fn waves_keep_the_order_of_contacts_on_a_shared_body() {
+        // A deterministic jumble of pairs over 12 slots, slot 0 the fixed one.
+        let mut state = 12345u32;
+        let mut next = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 16) % 12
+        };
+        let pairs: Vec<[u32; 2]> = (0..500).map(|_| [next(), next()]).collect();
+        let colors = colored(&pairs, 12);
+        assert_eq!(colors.ranges().collect::<Vec<_>>(), vec![(0..500, false)]);
+        let mut sorted = colors.order.clone();
+        sorted.sort();
+        assert_eq!(sorted, (0..500).collect::<Vec<u32>>());
+        for i in 0..pairs.len() {
+            for j in i + 1..pairs.len() {
+                let shared = pairs[i]
+                    .iter()
+                    .any(|&s| s != FIXED && pairs[j].contains(&s));
+                if shared {
+                    assert!(colors.position_of[i] < colors.position_of[j], "{i} and {j}");
+                }
+            }
+        }
     }
 
     /// No two units of a colour share a moving body, the points of one manifold stay

@@ -402,10 +402,11 @@ pub fn step(
     SlotMotion::gather(motions, bodies, awake, ctx.forces);
     // Written in place: collecting would build each (large) constraint aside and copy it.
     constraints.resize(colors.order.len(), PointConstraint::default());
-    // A manifold's points share their normal, and so their tangents.
+    // A manifold's points share their normal, and so their tangents: taken in contact order,
+    // where they are neighbours.
     let mut basis = (DVec3::NAN, [DVec3::NAN; 2]);
-    for (constraint, &k) in constraints.iter_mut().zip(&colors.order) {
-        let contact = &contacts[k as usize];
+    for (contact, &position) in contacts.iter().zip(&colors.position_of) {
+        let constraint = &mut constraints[position as usize];
         if contact.normal != basis.0 {
             basis = (contact.normal, tangent_basis(contact.normal));
         }
