@@ -96,20 +96,20 @@ fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
     // Both are checked before either is built: a box against a cylinder builds nothing.
     // The polyhedra are matched by reference where they are built: they are large, and
     // moving them out of the pair would copy them.
-    let mut contacts = if polyhedral(a) && polyhedral(b) {
-        match (&Polyhedron::of(a), &Polyhedron::of(b)) {
-            (Some(pa), Some(pb)) => polyhedron_contacts(pa, pb, margin),
-            _ => Contacts::from_vec(round_contacts(a, b, margin)),
+    if polyhedral(a)
+        && polyhedral(b)
+        && let (Some(pa), Some(pb)) = (&Polyhedron::of(a), &Polyhedron::of(b))
+    {
+        let mut contacts = polyhedron_contacts(pa, pb, margin);
+        if contacts.is_empty() {
+            // Clipping can cut away a whole incident face when a face axis was preferred
+            // over a slightly better edge axis; the closest pair still makes one contact.
+            contacts.extend(closest_contact(a, b, margin));
         }
-    } else {
-        Contacts::from_vec(round_contacts(a, b, margin))
-    };
-    if contacts.is_empty() {
-        // Clipping can cut away a whole incident face when a face axis was preferred over a
-        // slightly better edge axis; the closest pair still makes one contact.
-        contacts.extend(closest_contact(a, b, margin));
+        return contacts;
     }
-    contacts
+    // Empty only when the closest pair is beyond the margin: no second search for it.
+    Contacts::from_vec(round_contacts(a, b, margin))
 }
 
 // ---------------------------------------------------------------------------------------
