@@ -6,12 +6,54 @@
 //! or the sweep degenerates into all n² tests. The order is kept between calls and re-sorted
 //! with a run-adaptive stable sort, which costs O(n) when bodies moved little.
 
-use crate::physics::broad_phase::{BodyPair, BroadPhase, Proxy, sort_pairs, wants_pair};
+use crate::physics::broad_phase::{BodyPair, BroadPhase, Proxy, sort_pairs};
 
 #[derive(Clone, Debug, Default)]
 pub struct SweepAndPrune {
     /// Body indices sorted by `aabb.min[axis]` as of the last call.
     order: Vec<u32>,
+    /// The boxes in that order, as the sweep reads them (reused between calls).
+    intervals: Vec<Interval>,
+}
+
+/// One box as the sweep reads it, stored in sweep order: a box's candidates are its next
+/// neighbours in memory rather than proxies scattered by body index, and the test of each
+/// is the plain comparisons of `Aabb::overlaps`.
+#[derive(Clone, Copy, Debug)]
+struct Interval {
+    /// The box on the sweep axis.
+    start: f64,
+    end: f64,
+    /// Its minimum and maximum on the two other axes.
+    across: [[f64; 2]; 2],
+    body: u32,
+    active: bool,
+}
+
+impl Interval {
+    fn of(proxy: &Proxy, body: u32, axis: usize) -> Interval {
+        let [u, v] = [(axis + 1) % 3, (axis + 2) % 3];
+        let (min, max) = (proxy.aabb.min, proxy.aabb.max);
+        Interval {
+            start: min[axis],
+            end: max[axis],
+            across: [[min[u], max[u]], [min[v], max[v]]],
+            body,
+            active: proxy.active,
+        }
+    }
+
+    /// `wants_pair` for a `later` box that does not start after this one ends.
+    fn wants_pair(&self, later: &Interval) -> bool {
+        let crosses = |k: usize| {
+            self.across[k][0] <= later.across[k][1] && later.across[k][0] <= self.across[k][1]
+        };
+        (self.active || later.active)
+            && later.start <= self.end
+            && self.start <= later.end
+            && crosses(0)
+            && crosses(1)
+    }
 }
 
 impl SweepAndPrune {
@@ -42,16 +84,17 @@ impl BroadPhase for SweepAndPrune {
         let axis = widest_axis(proxies);
         let start = |i: u32| proxies[i as usize].aabb.min[axis];
         self.order.sort_by(|&i, &j| start(i).total_cmp(&start(j)));
+        self.intervals.clear();
+        (self.intervals)
+            .extend((self.order.iter()).map(|&i| Interval::of(&proxies[i as usize], i, axis)));
         let mut pairs = Vec::new();
-        for (k, &i) in self.order.iter().enumerate() {
-            let p = &proxies[i as usize];
-            for &j in &self.order[k + 1..] {
-                let q = &proxies[j as usize];
-                if q.aabb.min[axis] > p.aabb.max[axis] {
+        for (k, p) in self.intervals.iter().enumerate() {
+            for q in &self.intervals[k + 1..] {
+                if q.start > p.end {
                     break;
                 }
-                if wants_pair(p, q) {
-                    pairs.push(BodyPair::new(i as usize, j as usize));
+                if p.wants_pair(q) {
+                    pairs.push(BodyPair::new(p.body as usize, q.body as usize));
                 }
             }
         }
