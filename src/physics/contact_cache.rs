@@ -32,8 +32,22 @@ impl ContactCache {
     /// (emptied first; kept by the caller so that its room is reused).
     pub fn solver_inputs(&self, manifolds: &[ContactManifold], inputs: &mut Vec<ContactInput>) {
         inputs.clear();
+        // The manifolds come in pair order, so one walk along the entries finds every
+        // pair's; a pair before the last one walked to is searched for.
+        let mut walked = 0;
+        let mut walked_to = None;
         for m in manifolds {
-            let remembered = self.entries_of(m.body_a, m.body_b);
+            let pair = (m.body_a, m.body_b);
+            let remembered = if walked_to.is_none_or(|last| last <= pair) {
+                let rest = &self.entries[walked..];
+                let start = walked + rest.iter().take_while(|e| (e.0.0, e.0.1) < pair).count();
+                let rest = &self.entries[start..];
+                let length = rest.iter().take_while(|e| (e.0.0, e.0.1) == pair).count();
+                (walked, walked_to) = (start, Some(pair));
+                &rest[..length]
+            } else {
+                self.entries_of(m.body_a, m.body_b)
+            };
             inputs.extend(m.contacts.iter().map(|c| {
                 ContactInput {
                     a: m.body_a.index(),
@@ -118,13 +132,21 @@ mod tests {
         }
     }
 
-    /// Every stored impulse is found again by binary search, whether the manifolds come in
-    /// pair order (each one's points unsorted) or not.
+    /// Every stored impulse is found again, whether the manifolds come in pair order (each
+    /// one's points unsorted) or not; the last order has a pair out of order and, after it,
+    /// one that lies before the pair last walked to.
     #[test]
     fn stored_impulses_are_found_again_in_any_manifold_order() {
         for manifolds in [
             vec![manifold(0, 1, &[7, 3, 5]), manifold(0, 2, &[2, 1])],
             vec![manifold(1, 2, &[4, 9]), manifold(0, 1, &[8, 6, 1])],
+            vec![
+                manifold(0, 1, &[1]),
+                manifold(2, 3, &[2, 4]),
+                manifold(0, 2, &[5]),
+                manifold(1, 5, &[3]),
+                manifold(2, 3, &[6]),
+            ],
         ] {
             let count = manifolds.iter().map(|m| m.contacts.len()).sum::<usize>();
             let impulse = |k: usize| WarmImpulse {
