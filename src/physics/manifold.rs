@@ -91,13 +91,11 @@ fn part_contacts(
 }
 
 fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
-    let polyhedral =
-        |posed: &PosedShape| matches!(posed.shape, Shape::Cuboid { .. } | Shape::ConvexHull(_));
     // Both are checked before either is built: a box against a cylinder builds nothing.
     // The polyhedra are matched by reference where they are built: they are large, and
     // moving them out of the pair would copy them.
-    if polyhedral(a)
-        && polyhedral(b)
+    if a.shape.is_polyhedral()
+        && b.shape.is_polyhedral()
         && let (Some(pa), Some(pb)) = (&Polyhedron::of(a), &Polyhedron::of(b))
     {
         let mut contacts = polyhedron_contacts(pa, pb, margin);

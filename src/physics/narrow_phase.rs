@@ -22,9 +22,17 @@ pub const SPECULATIVE_DISTANCE: f64 = 0.02;
 /// An upper bound on how far any surface point of `body` moves in `dt`: |v| dt + |ω| r dt.
 pub fn motion_bound(body: &RigidBody, dt: f64) -> f64 {
     if !body.is_awake() {
+        return 0.0; // without measuring the shape
+    }
+    motion_bound_with_radius(body, body.shape.bounding_radius(), dt)
+}
+
+/// `motion_bound` for a shape whose bounding radius is at hand.
+fn motion_bound_with_radius(body: &RigidBody, radius: f64, dt: f64) -> f64 {
+    if !body.is_awake() {
         return 0.0;
     }
-    let reach = body.shape.bounding_radius() + body.local_center.length();
+    let reach = radius + body.local_center.length();
     (body.velocity().length() + body.angular_velocity().length() * reach) * dt.abs()
 }
 
@@ -107,13 +115,16 @@ fn manifold_of_pair(
     if !a.is_awake() && !b.is_awake() {
         return None;
     }
-    let closable = motion_bound(a, dt) + motion_bound(b, dt);
+    // Measured once: both the motion bound and the bounding spheres need them.
+    let radii = [a.shape.bounding_radius(), b.shape.bounding_radius()];
+    let closable =
+        motion_bound_with_radius(a, radii[0], dt) + motion_bound_with_radius(b, radii[1], dt);
     let margin = SPECULATIVE_DISTANCE + closable;
     let remembered = memory.find(pair.a, pair.b);
     if let Some(carried) = remembered.and_then(|r| r.carried(a, b, margin, closable)) {
         return Some((carried, remembered?.clone()));
     }
-    if !bounding_spheres_within(a, b, margin) {
+    if !bounding_spheres_within(a, b, radii, margin) {
         return None;
     }
     let manifold = contact_manifold(a, pair.a, b, pair.b, margin)?;
@@ -122,23 +133,18 @@ fn manifold_of_pair(
 }
 
 /// Whether the spheres around the two shapes (about their origins, through their farthest
-/// points) come within `margin`; always true unless one of them is round. Otherwise no
+/// points: `radii`) come within `margin`; always true unless one of them is round. Otherwise no
 /// contact search can find anything closer, and most pairs whose boxes overlap in a pile
 /// are apart like this. A sliver above the margin is kept for the search to decide, as it
 /// measures the distance to a tolerance. Polyhedra against polyhedra (also as parts of
 /// compounds) always go to their search: its speculative contacts measure the gap along a
 /// face normal, which can be less than the distance, and it is cheap.
-fn bounding_spheres_within(a: &RigidBody, b: &RigidBody, margin: f64) -> bool {
-    let round = |shape: &Shape| {
-        matches!(
-            shape,
-            Shape::Sphere { .. } | Shape::Capsule { .. } | Shape::Cylinder { .. }
-        )
-    };
+fn bounding_spheres_within(a: &RigidBody, b: &RigidBody, radii: [f64; 2], margin: f64) -> bool {
+    let round = |shape: &Shape| shape.is_convex() && !shape.is_polyhedral();
     if !round(&a.shape) && !round(&b.shape) {
         return true;
     }
-    let reach = a.shape.bounding_radius() + b.shape.bounding_radius();
+    let reach = radii[0] + radii[1];
     let gap = a.shape_origin().distance(b.shape_origin()) - reach;
     gap <= margin + 1e-6 * reach
 }
@@ -190,7 +196,8 @@ mod tests {
                             .rotated(tilt(0.37 * (k + i + j) as f64)),
                     )
                     .expect("valid");
-                    let within = bounding_spheres_within(&a, &b, margin);
+                    let radii = [a.shape.bounding_radius(), b.shape.bounding_radius()];
+                    let within = bounding_spheres_within(&a, &b, radii, margin);
                     if contact_manifold(&a, BodyId(0), &b, BodyId(1), margin).is_some() {
                         found += 1;
                         assert!(within, "{a_shape:?} and {b_shape:?} at {t} m ruled out");

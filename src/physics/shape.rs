@@ -98,6 +98,11 @@ impl Shape {
         !matches!(self, Shape::Compound(_))
     }
 
+    /// Flat faces only (a box, a hull): its contacts come from separating axes and clipping.
+    pub fn is_polyhedral(&self) -> bool {
+        matches!(self, Shape::Cuboid { .. } | Shape::ConvexHull(_))
+    }
+
     /// Checks that every dimension is finite and within [MIN_EXTENT, MAX_EXTENT].
     pub fn validate(&self) -> Result<(), ShapeError> {
         match self {
