@@ -20,11 +20,9 @@ impl ContactCache {
     /// The entries of one body pair: found by one binary search per manifold, so that its
     /// few points are then looked up among a handful.
     fn entries_of(&self, a: BodyId, b: BodyId) -> &[(Key, WarmImpulse)] {
-        let start = self
-            .entries
-            .partition_point(|((x, y, _), _)| (*x, *y) < (a, b));
+        let start = self.entries.partition_point(|e| pair_of(e) < (a, b));
         let rest = &self.entries[start..];
-        let length = rest.partition_point(|((x, y, _), _)| (*x, *y) == (a, b));
+        let length = rest.partition_point(|e| pair_of(e) == (a, b));
         &rest[..length]
     }
 
@@ -40,9 +38,9 @@ impl ContactCache {
             let pair = (m.body_a, m.body_b);
             let remembered = if walked_to.is_none_or(|last| last <= pair) {
                 let rest = &self.entries[walked..];
-                let start = walked + rest.iter().take_while(|e| (e.0.0, e.0.1) < pair).count();
+                let start = walked + rest.iter().take_while(|e| pair_of(e) < pair).count();
                 let rest = &self.entries[start..];
-                let length = rest.iter().take_while(|e| (e.0.0, e.0.1) == pair).count();
+                let length = rest.iter().take_while(|e| pair_of(e) == pair).count();
                 (walked, walked_to) = (start, Some(pair));
                 &rest[..length]
             } else {
@@ -103,6 +101,11 @@ impl ContactCache {
     pub fn clear(&mut self) {
         self.entries.clear();
     }
+}
+
+/// The body pair an entry belongs to.
+fn pair_of(((a, b, _), _): &(Key, WarmImpulse)) -> (BodyId, BodyId) {
+    (*a, *b)
 }
 
 #[cfg(test)]
