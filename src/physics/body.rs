@@ -359,6 +359,7 @@ impl RigidBody {
         self.orientation * self.inv_inertia_local.inverse() * self.orientation.transpose()
     }
 
+    #[inline(always)]
     pub fn refresh_world_inertia(&mut self) {
         self.inv_inertia_world =
             self.orientation * self.inv_inertia_local * self.orientation.transpose();
