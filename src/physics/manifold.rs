@@ -22,7 +22,7 @@ use smallvec::SmallVec;
 
 use crate::physics::body::{BodyId, RigidBody};
 use crate::physics::contact::{
-    Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS,
+    Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS, ManifoldPoints,
 };
 use crate::physics::epa::signed_distance_within;
 use crate::physics::gjk::{PosedShape, SupportMap};
@@ -39,13 +39,18 @@ pub fn contact_manifold(
     id_b: BodyId,
     margin: f64,
 ) -> Option<ContactManifold> {
-    let contacts = generate_contacts(&PosedShape::of_body(a), &PosedShape::of_body(b), margin);
+    let contacts = manifold_points(&PosedShape::of_body(a), &PosedShape::of_body(b), margin);
     ContactManifold::new(id_a, id_b, contacts)
 }
 
 /// The contacts of two placed shapes (deepest first, at most `MAX_MANIFOLD_POINTS`).
 /// Compounds are split into their parts; their contacts may then carry different normals.
 pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
+    manifold_points(a, b, margin).to_vec()
+}
+
+/// `generate_contacts`, held inline.
+fn manifold_points(a: &PosedShape, b: &PosedShape, margin: f64) -> ManifoldPoints {
     let mut contacts = if let Some(parts) = a.compound_parts() {
         part_contacts(&parts, b, margin, true)
     } else if let Some(parts) = b.compound_parts() {
@@ -55,8 +60,8 @@ pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Con
     };
     contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
     reduce_by_area(&mut contacts);
-    // Copied out as a slice: `into_vec` would move them out one by one.
-    contacts.to_vec()
+    // Copied out as a slice: collecting would move them out one by one.
+    ManifoldPoints::from_slice(&contacts)
 }
 
 /// The contacts of one pair before they are reduced: held inline up to a box face clipped
@@ -74,9 +79,9 @@ fn part_contacts(
     for (k, part) in parts.iter().enumerate() {
         let tag = ((k as u32 + 1) & 0xff) << 20;
         let found = if parts_are_a {
-            generate_contacts(part, other, margin)
+            manifold_points(part, other, margin)
         } else {
-            generate_contacts(other, part, margin)
+            manifold_points(other, part, margin)
         };
         contacts.extend(found.into_iter().map(|mut c| {
             if parts_are_a {
@@ -107,7 +112,7 @@ fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
         return contacts;
     }
     // Empty only when the closest pair is beyond the margin: no second search for it.
-    Contacts::from_vec(round_contacts(a, b, margin))
+    round_contacts(a, b, margin)
 }
 
 // ---------------------------------------------------------------------------------------
@@ -805,13 +810,13 @@ fn farthest_from(contacts: &[Contact], point: DVec3) -> usize {
 /// cylinder side) or standing on it (cylinder cap), extra points are tested.
 const FLAT_COSINE: f64 = 0.1;
 
-fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
+fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
     let Some(main) = closest_contact(a, b, margin) else {
-        return Vec::new();
+        return Contacts::new();
     };
-    // Room for the extra points of both shapes, a cap's corners and the closest pair, so
-    // that it rarely grows.
-    let mut extra = Vec::with_capacity(2 * MAX_MANIFOLD_POINTS + CAP_POINTS + 1);
+    // Inline up to 8: the extra points of both shapes, or a cap's corners; more (a cap on a
+    // box face has up to 12 corners) move it to the heap.
+    let mut extra = Contacts::new();
     for (k, point) in extra_points(a, main.normal).into_iter().enumerate() {
         extra.extend(point_contact(
             &point,

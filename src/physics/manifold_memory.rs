@@ -21,7 +21,7 @@ use smallvec::SmallVec;
 
 use crate::physics::body::{BodyId, RigidBody};
 use crate::physics::contact::{
-    Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS,
+    Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS, ManifoldPoints,
 };
 
 /// How far, m, any surface point of one body may have moved against the other since their
@@ -137,7 +137,7 @@ impl RememberedManifold {
         if !within {
             return None;
         }
-        let mut contacts: Vec<Contact> = (self.contacts.iter())
+        let mut contacts: ManifoldPoints = (self.contacts.iter())
             .map(|c| {
                 let on_a = origin_a + a.orientation * c.on_a;
                 let on_b = origin_b + b.orientation * c.on_b;
