@@ -174,6 +174,9 @@ pub struct ManifoldMemory {
     manifolds: Vec<RememberedManifold>,
 }
 
+/// Entries `ManifoldMemory::find_from` steps through before it searches.
+const WALK: usize = 8;
+
 impl ManifoldMemory {
     /// `manifolds` must come sorted by body pair (the narrow phase's order).
     pub fn new(manifolds: Vec<RememberedManifold>) -> Self {
@@ -182,10 +185,37 @@ impl ManifoldMemory {
     }
 
     pub fn find(&self, a: BodyId, b: BodyId) -> Option<&RememberedManifold> {
-        let index = (self.manifolds)
-            .binary_search_by_key(&(a, b), |m| (m.body_a, m.body_b))
-            .ok()?;
-        Some(&self.manifolds[index])
+        self.find_from(a, b, &mut 0)
+    }
+
+    /// `find`, starting where the last search left `cursor`. The narrow phase asks for its
+    /// pairs in ascending order, so the entry sought is usually a few ahead: walking there
+    /// replaced a binary search of about 13 probes per pair, each into another entry's
+    /// cache lines (2 % of a rain's instructions). A pair before the cursor, or far past it,
+    /// is still searched for.
+    pub fn find_from(
+        &self,
+        a: BodyId,
+        b: BodyId,
+        cursor: &mut usize,
+    ) -> Option<&RememberedManifold> {
+        let key = |m: &RememberedManifold| (m.body_a, m.body_b);
+        let sought = (a, b);
+        let manifolds = &self.manifolds;
+        let mut at = (*cursor).min(manifolds.len());
+        if at > 0 && key(&manifolds[at - 1]) >= sought {
+            at = manifolds[..at].partition_point(|m| key(m) < sought);
+        } else {
+            let walk_end = (at + WALK).min(manifolds.len());
+            while at < walk_end && key(&manifolds[at]) < sought {
+                at += 1;
+            }
+            if at == walk_end {
+                at += manifolds[at..].partition_point(|m| key(m) < sought);
+            }
+        }
+        *cursor = at;
+        manifolds.get(at).filter(|m| key(m) == sought)
     }
 
     /// Drops what was remembered about `bodies` (added, edited or removed since: their
@@ -254,6 +284,45 @@ mod tests {
 
     fn generated(a: &RigidBody, b: &RigidBody) -> ContactManifold {
         contact_manifold(a, BodyId(0), b, BodyId(1), 0.02).expect("they touch")
+    }
+
+    /// Searched from a cursor, in ascending order, in any order and for pairs it does not
+    /// hold, the memory finds what a binary search finds.
+    #[test]
+    fn searching_from_a_cursor_finds_what_a_binary_search_finds() {
+        let (a, b) = (
+            floor(),
+            body(BodyDesc::dynamic(Shape::sphere(0.5)).at(DVec3::Y * 0.49)),
+        );
+        let one = RememberedManifold::of(&generated(&a, &b), &a, &b, 0.02);
+        // Pairs (i, j) for i < 30 and every third j above it.
+        let keys: Vec<(u32, u32)> = (0..30)
+            .flat_map(|i| (i + 1..40).filter(|j| j % 3 == 0).map(move |j| (i, j)))
+            .collect();
+        let manifolds = (keys.iter())
+            .map(|&(i, j)| RememberedManifold {
+                body_a: BodyId(i),
+                body_b: BodyId(j),
+                ..one.clone()
+            })
+            .collect();
+        let memory = ManifoldMemory::new(manifolds);
+        let binary = |a: u32, b: u32| {
+            let found = keys.binary_search(&(a, b)).ok();
+            found.map(|k| (memory.manifolds[k].body_a, memory.manifolds[k].body_b))
+        };
+        // Every pair below 40 in ascending order, then a scrambled order, with one cursor.
+        let ascending = (0..40).flat_map(|i| (i + 1..40).map(move |j| (i, j)));
+        let scrambled = (0..1000u32).map(|k| ((k * 7919) % 40, (k * 104_729) % 40));
+        let mut cursor = 0;
+        for (i, j) in ascending.chain(scrambled) {
+            let found = memory.find_from(BodyId(i), BodyId(j), &mut cursor);
+            assert_eq!(
+                found.map(|m| (m.body_a, m.body_b)),
+                binary(i, j),
+                "({i}, {j})"
+            );
+        }
     }
 
     /// `b` moved by `offset` and turned by `turn` (applied about its position).

@@ -93,23 +93,34 @@ pub fn find_manifolds(
             Vec::with_capacity(pairs.len()),
             Vec::with_capacity(pairs.len()),
         );
-        found.extend((pairs.iter()).filter_map(|pair| manifold_of_pair(bodies, pair, dt, memory)));
+        let mut cursor = 0;
+        found.extend(
+            (pairs.iter())
+                .filter_map(|pair| manifold_of_pair(bodies, pair, dt, memory, &mut cursor)),
+        );
         found
     } else {
         pairs
             .par_iter()
             .with_min_len(PAIRS_PER_TASK)
-            .filter_map(|pair| manifold_of_pair(bodies, pair, dt, memory))
+            .map_init(
+                || 0,
+                |cursor, pair| manifold_of_pair(bodies, pair, dt, memory, cursor),
+            )
+            .flatten()
             .unzip()
     };
     (manifolds, ManifoldMemory::new(remembered))
 }
 
+/// One pair's manifold; `cursor` is where the search of `memory` starts (see
+/// `ManifoldMemory::find_from`).
 fn manifold_of_pair(
     bodies: &[RigidBody],
     pair: &BodyPair,
     dt: f64,
     memory: &ManifoldMemory,
+    cursor: &mut usize,
 ) -> Option<(ContactManifold, RememberedManifold)> {
     let (a, b) = (&bodies[pair.a.index()], &bodies[pair.b.index()]);
     if !a.is_awake() && !b.is_awake() {
@@ -120,7 +131,7 @@ fn manifold_of_pair(
     let closable =
         motion_bound_with_radius(a, radii[0], dt) + motion_bound_with_radius(b, radii[1], dt);
     let margin = SPECULATIVE_DISTANCE + closable;
-    let remembered = memory.find(pair.a, pair.b);
+    let remembered = memory.find_from(pair.a, pair.b, cursor);
     if let Some(carried) = remembered.and_then(|r| r.carried(a, b, margin, closable)) {
         return Some((carried, remembered?.clone()));
     }
