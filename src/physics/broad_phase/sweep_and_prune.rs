@@ -14,6 +14,10 @@ pub struct SweepAndPrune {
     order: Vec<u32>,
     /// The boxes in that order, as the sweep reads them (reused between calls).
     intervals: Vec<Interval>,
+    /// The pairs in sweep order, before they are sorted (reused between calls).
+    swept: Vec<BodyPair>,
+    /// Where each first body's pairs start in the sorted list (reused between calls).
+    starts: Vec<usize>,
 }
 
 /// One box as the sweep reads it, stored in sweep order: a box's candidates are its next
@@ -87,18 +91,49 @@ impl BroadPhase for SweepAndPrune {
         self.intervals.clear();
         (self.intervals)
             .extend((self.order.iter()).map(|&i| Interval::of(&proxies[i as usize], i, axis)));
-        let mut pairs = Vec::new();
+        self.swept.clear();
         for (k, p) in self.intervals.iter().enumerate() {
             for q in &self.intervals[k + 1..] {
                 if q.start > p.end {
                     break;
                 }
                 if p.wants_pair(q) {
-                    pairs.push(BodyPair::new(p.body as usize, q.body as usize));
+                    self.swept
+                        .push(BodyPair::new(p.body as usize, q.body as usize));
                 }
             }
         }
-        sort_pairs(&mut pairs);
-        pairs
+        sorted_by_first_body(&self.swept, proxies.len(), &mut self.starts)
     }
+}
+
+/// `pairs` in `sort_pairs` order: a counting sort on the first body, then each first
+/// body's few pairs sorted on the second. The pairs are distinct, so this is the one sorted
+/// order; a comparison sort of a rain's thousands of pairs took 2 % of its instructions.
+fn sorted_by_first_body(
+    pairs: &[BodyPair],
+    body_count: usize,
+    starts: &mut Vec<usize>,
+) -> Vec<BodyPair> {
+    starts.clear();
+    starts.resize(body_count + 1, 0);
+    for pair in pairs {
+        starts[pair.a.index() + 1] += 1;
+    }
+    for k in 0..body_count {
+        starts[k + 1] += starts[k];
+    }
+    let mut sorted = pairs.to_vec(); // every place is written below
+    for pair in pairs {
+        let next = &mut starts[pair.a.index()];
+        sorted[*next] = *pair;
+        *next += 1;
+    }
+    // Each first body's run now ends where the next one's starts.
+    let mut run_start = 0;
+    for &run_end in &starts[..body_count] {
+        sort_pairs(&mut sorted[run_start..run_end]);
+        run_start = run_end;
+    }
+    sorted
 }
