@@ -76,7 +76,8 @@ pub struct ContactManifold {
 pub const MAX_MANIFOLD_POINTS: usize = 4;
 
 /// A manifold's contacts, held inline: every pair's manifold is built anew or carried over
-/// at every step, and allocating each one's list took 4 % of a rain's instructions.
+/// at every step, and allocating and freeing each one's list took 4 % of a rain's
+/// instructions. Moving the larger manifolds costs back most of that: 1 % net.
 pub type ManifoldPoints = SmallVec<[Contact; MAX_MANIFOLD_POINTS]>;
 
 impl ContactManifold {
