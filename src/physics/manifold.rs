@@ -841,22 +841,10 @@ fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
     // search's tolerance) is on a cap they do not touch by.
     let size = a.shape.bounding_radius() + b.shape.bounding_radius();
     let deepest_allowed = main.separation - 1e-6 * size;
-    extra.extend(cap_contacts(
-        a,
-        b,
-        main.normal,
-        margin,
-        deepest_allowed,
-        true,
-    ));
-    extra.extend(cap_contacts(
-        b,
-        a,
-        -main.normal,
-        margin,
-        deepest_allowed,
-        false,
-    ));
+    let cap_of_a = (a, b, main.normal);
+    add_cap_contacts(cap_of_a, margin, deepest_allowed, true, &mut extra);
+    let cap_of_b = (b, a, -main.normal);
+    add_cap_contacts(cap_of_b, margin, deepest_allowed, false, &mut extra);
     // A lying shape touches along a line or patch whose ends are the extra points, and the
     // closest pair is just one point of it; otherwise the closest pair is deeper and stays.
     let deepest_extra = extra
@@ -955,45 +943,38 @@ fn extra_points(posed: &PosedShape, normal: DVec3) -> SurfacePoints {
     }
 }
 
-/// Room for the corners of the patch where a cylinder's cap meets a polyhedron's face: the
-/// face's vertices inside the disc and its edges' crossings of the rim (a box face: 4 + 8).
-const CAP_POINTS: usize = 12;
-
 /// Tags a contact on a cylinder's cap (the other side names the polyhedron's feature).
 const CAP_TAG: u32 = 3 << 28;
 
-type CapContacts = SmallVec<[Contact; CAP_POINTS]>;
-
-/// Where a cylinder's cap faces a polyhedron: the polyhedron's face turned most against the
-/// cap, clipped to the cap's disc. The rim points of `extra_points` only sample the disc's
+/// Adds to `found` where a cylinder's cap faces a polyhedron: the polyhedron's face turned
+/// most against the cap, clipped to the cap's disc (its vertices inside the disc and its
+/// edges' crossings of the rim: up to 4 + 8 for a box face). The rim points of `extra_points` only sample the disc's
 /// edge, so a cap resting across a box's edge or corner had the box's corners under it
 /// unsupported but for the one deepest point: it tipped over them and sank up to 8 cm into
 /// the box in the rain scenes. The face's vertices inside the disc and its edges' crossings
 /// of the rim are the patch's other corners. `normal` points away from `cylinder`; points
 /// deeper than `deepest_allowed` are left out.
-fn cap_contacts(
-    cylinder: &PosedShape,
-    other: &PosedShape,
-    normal: DVec3,
+fn add_cap_contacts(
+    (cylinder, other, normal): (&PosedShape, &PosedShape, DVec3),
     margin: f64,
     deepest_allowed: f64,
     cylinder_is_a: bool,
-) -> CapContacts {
-    let mut found = CapContacts::new();
+    found: &mut Contacts,
+) {
     let Shape::Cylinder {
         half_height,
         radius,
     } = *cylinder.shape
     else {
-        return found;
+        return;
     };
     let axis = cylinder.rotation * DVec3::Y;
     let along = axis.dot(normal);
     if along.abs() <= 1.0 - FLAT_COSINE {
-        return found;
+        return;
     }
     let Some(polyhedron) = Polyhedron::of(other) else {
-        return found;
+        return;
     };
     let cap_normal = axis * along.signum();
     let cap = Disc {
@@ -1038,7 +1019,6 @@ fn cap_contacts(
             );
         }
     }
-    found
 }
 
 /// A cylinder's cap: the disc of `radius` about `center` in the plane of unit `normal`.
