@@ -87,60 +87,88 @@ pub fn find_manifolds(
     dt: f64,
     memory: &ManifoldMemory,
 ) -> (Vec<ContactManifold>, ManifoldMemory) {
-    let (manifolds, remembered) = if rayon::current_num_threads() == 1 {
-        // Handing the work to a pool of one thread only adds its wake-ups.
-        let mut found = (
-            Vec::with_capacity(pairs.len()),
-            Vec::with_capacity(pairs.len()),
-        );
-        let mut cursor = 0;
-        found.extend(
-            (pairs.iter())
-                .filter_map(|pair| manifold_of_pair(bodies, pair, dt, memory, &mut cursor)),
-        );
-        found
-    } else {
-        pairs
-            .par_iter()
-            .with_min_len(PAIRS_PER_TASK)
-            .map_init(
-                || 0,
-                |cursor, pair| manifold_of_pair(bodies, pair, dt, memory, cursor),
-            )
-            .flatten()
-            .unzip()
+    let mut found = Found {
+        manifolds: Vec::with_capacity(pairs.len()),
+        remembered: Vec::with_capacity(pairs.len()),
     };
-    (manifolds, ManifoldMemory::new(remembered))
+    if rayon::current_num_threads() == 1 {
+        // Handing the work to a pool of one thread only adds its wake-ups.
+        found.add_pairs(bodies, pairs, dt, memory);
+    } else {
+        let parts: Vec<Found> = (pairs.par_chunks(PAIRS_PER_TASK))
+            .map(|chunk| {
+                let mut part = Found::default();
+                part.add_pairs(bodies, chunk, dt, memory);
+                part
+            })
+            .collect();
+        for mut part in parts {
+            found.manifolds.append(&mut part.manifolds);
+            found.remembered.append(&mut part.remembered);
+        }
+    }
+    (found.manifolds, ManifoldMemory::new(found.remembered))
 }
 
-/// One pair's manifold; `cursor` is where the search of `memory` starts (see
-/// `ManifoldMemory::find_from`).
-fn manifold_of_pair(
-    bodies: &[RigidBody],
-    pair: &BodyPair,
-    dt: f64,
-    memory: &ManifoldMemory,
-    cursor: &mut usize,
-) -> Option<(ContactManifold, RememberedManifold)> {
-    let (a, b) = (&bodies[pair.a.index()], &bodies[pair.b.index()]);
-    if !a.is_awake() && !b.is_awake() {
-        return None;
+/// Manifolds found, in pair order, with what to remember of each.
+#[derive(Default)]
+struct Found {
+    manifolds: Vec<ContactManifold>,
+    remembered: Vec<RememberedManifold>,
+}
+
+impl Found {
+    /// The manifolds of `pairs`, in their order. Each is pushed where it is made: a
+    /// manifold holds its contacts inline, and handing it back through the callers cost
+    /// two copies of it per pair.
+    fn add_pairs(
+        &mut self,
+        bodies: &[RigidBody],
+        pairs: &[BodyPair],
+        dt: f64,
+        memory: &ManifoldMemory,
+    ) {
+        // Where the search of `memory` starts (see `ManifoldMemory::find_from`).
+        let mut cursor = 0;
+        for pair in pairs {
+            self.add_pair(bodies, pair, dt, memory, &mut cursor);
+        }
     }
-    // Measured once: both the motion bound and the bounding spheres need them.
-    let radii = [a.shape.bounding_radius(), b.shape.bounding_radius()];
-    let closable =
-        motion_bound_with_radius(a, radii[0], dt) + motion_bound_with_radius(b, radii[1], dt);
-    let margin = SPECULATIVE_DISTANCE + closable;
-    let remembered = memory.find_from(pair.a, pair.b, cursor);
-    if let Some(carried) = remembered.and_then(|r| r.carried(a, b, margin, closable)) {
-        return Some((carried, remembered?.clone()));
+
+    fn add_pair(
+        &mut self,
+        bodies: &[RigidBody],
+        pair: &BodyPair,
+        dt: f64,
+        memory: &ManifoldMemory,
+        cursor: &mut usize,
+    ) {
+        let (a, b) = (&bodies[pair.a.index()], &bodies[pair.b.index()]);
+        if !a.is_awake() && !b.is_awake() {
+            return;
+        }
+        // Measured once: both the motion bound and the bounding spheres need them.
+        let radii = [a.shape.bounding_radius(), b.shape.bounding_radius()];
+        let closable =
+            motion_bound_with_radius(a, radii[0], dt) + motion_bound_with_radius(b, radii[1], dt);
+        let margin = SPECULATIVE_DISTANCE + closable;
+        let remembered = memory.find_from(pair.a, pair.b, cursor);
+        if let Some(remembered) = remembered
+            && let Some(carried) = remembered.carried(a, b, margin, closable)
+        {
+            self.manifolds.push(carried);
+            self.remembered.push(remembered.clone());
+            return;
+        }
+        if !bounding_spheres_within(a, b, radii, margin) {
+            return;
+        }
+        if let Some(manifold) = contact_manifold(a, pair.a, b, pair.b, margin) {
+            self.remembered
+                .push(RememberedManifold::of(&manifold, a, b, margin));
+            self.manifolds.push(manifold);
+        }
     }
-    if !bounding_spheres_within(a, b, radii, margin) {
-        return None;
-    }
-    let manifold = contact_manifold(a, pair.a, b, pair.b, margin)?;
-    let remembered = RememberedManifold::of(&manifold, a, b, margin);
-    Some((manifold, remembered))
 }
 
 /// Whether the spheres around the two shapes (about their origins, through their farthest
