@@ -94,43 +94,69 @@ struct Side {
     anchor: F64x4,
 }
 
-/// What a side's impulses do, as plain vectors, while a contact is prepared: for the
-/// normal and the two tangents d, the arm r × d and the spin I⁻¹ (r × d) that a unit
-/// impulse along d gives, with the world inertia at step start (zero where the body does not
-/// move).
+/// What a side's impulses do while a contact is prepared: for the normal and the two
+/// tangents d, the arm r × d and the spin I⁻¹ (r × d) that a unit impulse along d gives,
+/// with the world inertia at step start (zero where the body does not move).
+///
+/// The arms and spins are held transposed, like `PointConstraint::across` (lane k of
+/// `arms[c]` is component c of direction k's arm), so that the three directions are worked
+/// on at once: the same operations glam's `cross`, matrix product and `dot` would do for
+/// each, in the same order.
 struct SideGeometry {
     lever: DVec3,
-    arm: [DVec3; 3],
-    spin: [DVec3; 3],
+    arms: [F64x4; 3],
+    spins: [F64x4; 3],
     anchor: DVec3,
 }
 
 impl SideGeometry {
     #[inline(always)]
-    fn new(body: &RigidBody, slot: u32, lever: DVec3, directions: &[DVec3; 3]) -> Self {
+    fn new(body: &RigidBody, slot: u32, lever: DVec3, across: &[F64x4; 3]) -> Self {
         if !moves(slot) {
             // Nothing turns it: only the anchor, the contact point in world axes, is read.
             return SideGeometry {
                 lever,
-                arm: [DVec3::ZERO; 3],
-                spin: [DVec3::ZERO; 3],
+                arms: [F64x4::ZERO; 3],
+                spins: [F64x4::ZERO; 3],
                 anchor: body.position + lever,
             };
         }
-        // Arrays written out rather than mapped: `map` is not always inlined here.
-        let arm = [
-            lever.cross(directions[0]),
-            lever.cross(directions[1]),
-            lever.cross(directions[2]),
+        let r = lever;
+        let [d0, d1, d2] = [across[0], across[1], across[2]];
+        // r × d: (r.y d.z − d.y r.z, r.z d.x − d.z r.x, r.x d.y − d.x r.y).
+        let arms = [
+            d2 * r.y - d1 * r.z,
+            d0 * r.z - d2 * r.x,
+            d1 * r.x - d0 * r.y,
         ];
-        let inertia = body.inv_inertia_world;
-        let spin = [inertia * arm[0], inertia * arm[1], inertia * arm[2]];
+        // I⁻¹ (r × d) by columns: col x · arm.x + col y · arm.y + col z · arm.z.
+        let m = body.inv_inertia_world;
+        let (x, y, z) = (m.x_axis, m.y_axis, m.z_axis);
+        let spins = [
+            arms[0] * x.x + arms[1] * y.x + arms[2] * z.x,
+            arms[0] * x.y + arms[1] * y.y + arms[2] * z.y,
+            arms[0] * x.z + arms[1] * y.z + arms[2] * z.z,
+        ];
         SideGeometry {
             lever,
-            arm,
-            spin,
+            arms,
+            spins,
             anchor: body.orientation.transpose() * lever,
         }
+    }
+
+    /// arm_k · spin_k for each direction k, in lane k.
+    #[inline(always)]
+    fn arm_dot_spin(&self) -> F64x4 {
+        let (arms, spins) = (&self.arms, &self.spins);
+        arms[0] * spins[0] + arms[1] * spins[1] + arms[2] * spins[2]
+    }
+
+    /// The normal's arm · spin_k for each direction k, in lane k.
+    #[inline(always)]
+    fn normal_arm_dot_spin(&self) -> F64x4 {
+        let (arms, spins) = (&self.arms, &self.spins);
+        spins[0] * arms[0].lane(0) + spins[1] * arms[1].lane(0) + spins[2] * arms[2].lane(0)
     }
 
     /// The anchor in world coordinates with the body at this pose.
@@ -600,8 +626,9 @@ fn prepare(
     let approach_speed = normal.dot(relative_velocity);
     let acceleration = |slot: u32| motions[slot as usize].acceleration;
     let approach_acceleration = normal.dot(acceleration(slot_b) - acceleration(slot_a));
-    let side_a = SideGeometry::new(a, slot_a, r_a, &directions);
-    let side_b = SideGeometry::new(b, slot_b, r_b, &directions);
+    let across = F64x4::transpose(directions);
+    let side_a = SideGeometry::new(a, slot_a, r_a, &across);
+    let side_b = SideGeometry::new(b, slot_b, r_b, &across);
     let separation_offset = contact.separation - normal.dot(r_b - r_a + b.position - a.position);
     let (anchor_a, anchor_b) = (
         side_a.anchor_at(slot_a, a.position, a.orientation),
@@ -611,11 +638,11 @@ fn prepare(
     let [normal_mass, tangent_1, tangent_2] = effective_masses(&side_a, &side_b, inv_masses);
     PointConstraint {
         separation: normal.dot(anchor_b - anchor_a) + separation_offset,
-        normal_to_tangent: normal_to_tangent(&side_a, &side_b, inv_masses, &directions),
+        normal_to_tangent: normal_to_tangent(&side_a, &side_b, inv_masses, &across),
         a: side_a.into_lanes(),
         b: side_b.into_lanes(),
         directions: F64x4::from_vec3s(directions),
-        across: F64x4::transpose(directions),
+        across,
         slots: [slot_a, slot_b],
         separation_offset,
         normal_mass,
@@ -636,8 +663,9 @@ fn prepare(
 /// as immovable, as the impulses treat it.
 #[inline(always)]
 fn effective_masses(a: &SideGeometry, b: &SideGeometry, inv_masses: f64) -> [f64; 3] {
+    let inverse = F64x4::splat(inv_masses) + a.arm_dot_spin() + b.arm_dot_spin();
     let mass = |k: usize| {
-        let inverse = inv_masses + a.arm[k].dot(a.spin[k]) + b.arm[k].dot(b.spin[k]);
+        let inverse = inverse.lane(k);
         if inverse > 0.0 { 1.0 / inverse } else { 0.0 }
     };
     [mass(0), mass(1), mass(2)]
@@ -650,13 +678,13 @@ fn normal_to_tangent(
     a: &SideGeometry,
     b: &SideGeometry,
     inv_masses: f64,
-    directions: &[DVec3; 3],
+    across: &[F64x4; 3],
 ) -> [f64; 2] {
-    let coupling = |k: usize| {
-        let linear = inv_masses * directions[k].dot(directions[0]);
-        linear + a.arm[0].dot(a.spin[k]) + b.arm[0].dot(b.spin[k])
-    };
-    [coupling(1), coupling(2)]
+    // d_k · n for each direction k, then the arms' share.
+    let n = [across[0].lane(0), across[1].lane(0), across[2].lane(0)];
+    let along_normal = across[0] * n[0] + across[1] * n[1] + across[2] * n[2];
+    let coupling = along_normal * inv_masses + a.normal_arm_dot_spin() + b.normal_arm_dot_spin();
+    [coupling.lane(1), coupling.lane(2)]
 }
 
 /// Contacts in a colour that make it worth spreading over the threads.
