@@ -201,3 +201,44 @@ fn swept_box_holds_both_ends() {
     assert_eq!(swept.min, DVec3::new(-0.01, -1.01, -0.01));
     assert_eq!(swept.max, DVec3::new(5.01, 0.01, 0.01));
 }
+
+/// Boxes with a NaN bound (of either sign, on any axis, in the minimum or the maximum)
+/// and empty boxes pair with nothing, and do not hide any pair of the others from the
+/// sweep, wherever they sort.
+#[test]
+fn boxes_with_nan_bounds_pair_with_nothing() {
+    let mut proxies = Vec::new();
+    for k in 0..60 {
+        let t = k as f64;
+        let center = DVec3::new((t * 0.37).sin() * 3.0, (t * 0.23).cos() * 3.0, t * 0.05);
+        proxies.push(Proxy {
+            aabb: Aabb::from_center_half_extents(center, DVec3::splat(0.6)),
+            active: k % 3 != 0,
+        });
+    }
+    for k in 0..12 {
+        let mut aabb = Aabb::from_center_half_extents(DVec3::splat(0.1 * k as f64), DVec3::ONE);
+        let nan = if k % 2 == 0 { f64::NAN } else { -f64::NAN };
+        match k % 4 {
+            0 | 1 => aabb.min[k % 3] = nan,
+            _ => aabb.max[k % 3] = nan,
+        }
+        proxies.insert(5 * k, Proxy { aabb, active: true });
+    }
+    proxies.insert(
+        7,
+        Proxy {
+            aabb: Aabb {
+                min: DVec3::INFINITY,
+                max: DVec3::NEG_INFINITY,
+            },
+            active: true,
+        },
+    );
+    let expected = BruteForce.find_pairs(&proxies);
+    assert!(expected.len() > 20, "only {} pairs", expected.len());
+    let mut sweep = SweepAndPrune::default();
+    for _ in 0..2 {
+        assert_eq!(sweep.find_pairs(&proxies), expected);
+    }
+}

@@ -35,9 +35,26 @@ struct Interval {
 }
 
 impl Interval {
+    /// A box that meets nothing: after every box in the sweep, and ending before them all.
+    const EMPTY: Interval = Interval {
+        start: f64::INFINITY,
+        end: f64::NEG_INFINITY,
+        across: [[f64::INFINITY, f64::NEG_INFINITY]; 2],
+        body: 0,
+        active: false,
+    };
+
+    /// A box with a NaN bound (which fails every comparison of `Aabb::overlaps`, so it pairs
+    /// with nothing) is swept as `EMPTY`, so that `wants_pair` need not test for it.
     fn of(proxy: &Proxy, body: u32, axis: usize) -> Interval {
-        let [u, v] = [(axis + 1) % 3, (axis + 2) % 3];
         let (min, max) = (proxy.aabb.min, proxy.aabb.max);
+        if min.is_nan() || max.is_nan() {
+            return Interval {
+                body,
+                ..Interval::EMPTY
+            };
+        }
+        let [u, v] = [(axis + 1) % 3, (axis + 2) % 3];
         Interval {
             start: min[axis],
             end: max[axis],
@@ -47,16 +64,15 @@ impl Interval {
         }
     }
 
-    /// `wants_pair` for a `later` box that does not start after this one ends.
+    /// `wants_pair` for a `later` box in the sweep: it starts no earlier than this one (the
+    /// order) and no later than this one ends (the sweep's break), so on the sweep axis they
+    /// overlap already. The other axes come first: they reject most candidates, and nearly
+    /// every box is active.
     fn wants_pair(&self, later: &Interval) -> bool {
         let crosses = |k: usize| {
             self.across[k][0] <= later.across[k][1] && later.across[k][0] <= self.across[k][1]
         };
-        (self.active || later.active)
-            && later.start <= self.end
-            && self.start <= later.end
-            && crosses(0)
-            && crosses(1)
+        crosses(0) && crosses(1) && (self.active || later.active)
     }
 }
 
@@ -86,7 +102,12 @@ impl BroadPhase for SweepAndPrune {
     fn find_pairs(&mut self, proxies: &[Proxy]) -> Vec<BodyPair> {
         self.track_body_count(proxies.len());
         let axis = widest_axis(proxies);
-        let start = |i: u32| proxies[i as usize].aabb.min[axis];
+        // Where `Interval::of` puts each box: a box with a NaN bound goes last, as `EMPTY`.
+        let start = |i: u32| {
+            let aabb = &proxies[i as usize].aabb;
+            let nan = aabb.min.is_nan() || aabb.max.is_nan();
+            if nan { f64::INFINITY } else { aabb.min[axis] }
+        };
         self.order.sort_by(|&i, &j| start(i).total_cmp(&start(j)));
         self.intervals.clear();
         (self.intervals)
