@@ -128,33 +128,63 @@ impl RememberedManifold {
         margin: f64,
         closable: f64,
     ) -> Option<ContactManifold> {
+        let radii = [a.shape.bounding_radius(), b.shape.bounding_radius()];
+        let mut carried = Vec::with_capacity(1);
+        self.carry_into(a, b, radii, margin, closable, &mut carried);
+        carried.pop()
+    }
+
+    /// `carried` pushed onto `manifolds` when there is one (true), built where it is
+    /// pushed: a manifold holds its contacts inline, and returning it copied it several
+    /// times. `radii` are the shapes' bounding radii, which the caller has at hand.
+    pub fn carry_into(
+        &self,
+        a: &RigidBody,
+        b: &RigidBody,
+        [radius_a, radius_b]: [f64; 2],
+        margin: f64,
+        closable: f64,
+        manifolds: &mut Vec<ContactManifold>,
+    ) -> bool {
         let (origin_a, origin_b) = (a.shape_origin(), b.shape_origin());
         let now = RelativePose::of(a, origin_a, b, origin_b);
-        let (radius_a, radius_b) = (a.shape.bounding_radius(), b.shape.bounding_radius());
         let moved = self.pose.displacement_bound(&now, radius_a, radius_b);
         // A non-finite pose or speed gives NaN, which is not within the bounds either.
         let within = moved <= REUSE_DISTANCE && closable < self.margin - REUSE_DISTANCE;
         if !within {
-            return None;
+            return false;
         }
-        let mut contacts: ManifoldPoints = (self.contacts.iter())
-            .map(|c| {
-                let on_a = origin_a + a.orientation * c.on_a;
-                let on_b = origin_b + b.orientation * c.on_b;
-                let normal = a.orientation * c.normal;
-                Contact {
+        manifolds.push(ContactManifold {
+            body_a: self.body_a,
+            body_b: self.body_b,
+            normal: DVec3::ZERO,
+            contacts: ManifoldPoints::new(),
+        });
+        let manifold = manifolds.last_mut().expect("just pushed");
+        for c in &self.contacts {
+            let on_a = origin_a + a.orientation * c.on_a;
+            let on_b = origin_b + b.orientation * c.on_b;
+            let normal = a.orientation * c.normal;
+            let separation = (on_b - on_a).dot(normal);
+            if separation <= margin {
+                manifold.contacts.push(Contact {
                     position: 0.5 * (on_a + on_b),
                     normal,
-                    separation: (on_b - on_a).dot(normal),
+                    separation,
                     kind: c.kind,
                     feature: c.feature,
                     time_of_impact: 0.0,
-                }
-            })
-            .filter(|c| c.separation <= margin)
-            .collect();
-        contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
-        ContactManifold::new(self.body_a, self.body_b, contacts)
+                });
+            }
+        }
+        if manifold.contacts.is_empty() {
+            manifolds.pop();
+            return false;
+        }
+        // Deepest first, the normal the deepest's, as `ContactManifold::new` has them.
+        (manifold.contacts).sort_by(|x, y| x.separation.total_cmp(&y.separation));
+        manifold.normal = manifold.contacts[0].normal;
+        true
     }
 
     fn is_finite(&self) -> bool {

@@ -154,10 +154,10 @@ impl Found {
         let margin = SPECULATIVE_DISTANCE + closable;
         let remembered = memory.find_from(pair.a, pair.b, cursor);
         if let Some(remembered) = remembered
-            && let Some(carried) = remembered.carried(a, b, margin, closable)
+            && remembered.carry_into(a, b, radii, margin, closable, &mut self.manifolds)
         {
-            self.manifolds.push(carried);
-            self.remembered.push(remembered.clone());
+            // Cloned where it is stored, not aside and then moved there.
+            (self.remembered).extend_from_slice(std::slice::from_ref(remembered));
             return;
         }
         if !bounding_spheres_within(a, b, radii, margin) {
