@@ -32,6 +32,21 @@ impl Default for SleepSettings {
     }
 }
 
+/// What `update` works with, kept between steps so that it allocates nothing once grown.
+#[derive(Clone, Debug, Default)]
+pub struct IslandScratch {
+    /// The members: awake bodies and the sleeping ones they touch, ascending.
+    members: Vec<u32>,
+    /// Each member's place in `members`, by body index (`NOT_A_MEMBER` elsewhere). Only the
+    /// members' entries are set, and `update` clears them again, so that bodies asleep apart
+    /// cost nothing here.
+    member_of: Vec<u32>,
+    island_ready: Vec<bool>,
+    islands: UnionFind,
+}
+
+const NOT_A_MEMBER: u32 = u32::MAX;
+
 /// Updates the quiet times of the awake bodies, then puts to sleep or wakes the islands they
 /// form with the bodies they touch. Only the awake bodies and the sleeping bodies in this
 /// step's contacts are visited: bodies asleep apart from them stay as they are at no cost.
@@ -42,14 +57,21 @@ pub fn update(
     manifolds: &[ContactManifold],
     dt: f64,
     settings: &SleepSettings,
+    scratch: &mut IslandScratch,
 ) -> bool {
     for &index in awake {
         let body = &mut bodies[index as usize];
         let quiet = body.kinetic_energy() < 0.5 * body.mass() * settings.sleep_speed.powi(2);
         body.quiet_time = if quiet { body.quiet_time + dt } else { 0.0 };
     }
-    // The members: awake bodies and the sleeping ones they touch, ascending.
-    let mut members: Vec<u32> = awake.to_vec();
+    let IslandScratch {
+        members,
+        member_of,
+        island_ready,
+        islands,
+    } = scratch;
+    members.clear();
+    members.extend_from_slice(awake);
     for m in manifolds {
         for id in [m.body_a, m.body_b] {
             if bodies[id.index()].is_dynamic() && bodies[id.index()].sleeping {
@@ -59,16 +81,27 @@ pub fn update(
     }
     members.sort_unstable();
     members.dedup();
-    let local = |id: BodyId| members.binary_search(&id.0).ok();
-    let mut islands = UnionFind::new(members.len());
+    if member_of.len() < bodies.len() {
+        member_of.resize(bodies.len(), NOT_A_MEMBER);
+    }
+    for (k, &index) in members.iter().enumerate() {
+        member_of[index as usize] = k as u32;
+    }
+    let local =
+        |id: BodyId| Some(member_of[id.index()] as usize).filter(|&k| k != NOT_A_MEMBER as usize);
+    islands.reset(members.len());
     for m in manifolds {
         if let (Some(a), Some(b)) = (local(m.body_a), local(m.body_b)) {
             islands.union(a, b);
         }
     }
+    for &index in members.iter() {
+        member_of[index as usize] = NOT_A_MEMBER;
+    }
     let ready = |body: &RigidBody| body.sleeping || body.quiet_time >= settings.time_to_sleep;
     // An island may sleep only if every member is ready.
-    let mut island_ready = vec![true; members.len()];
+    island_ready.clear();
+    island_ready.resize(members.len(), true);
     for (k, &index) in members.iter().enumerate() {
         let root = islands.find(k);
         island_ready[root] &= ready(&bodies[index as usize]);
@@ -87,17 +120,19 @@ pub fn update(
 }
 
 /// Disjoint sets with path halving and union by size.
+#[derive(Clone, Debug, Default)]
 struct UnionFind {
     parent: Vec<usize>,
     size: Vec<usize>,
 }
 
 impl UnionFind {
-    fn new(n: usize) -> Self {
-        UnionFind {
-            parent: (0..n).collect(),
-            size: vec![1; n],
-        }
+    /// `n` sets of one element each.
+    fn reset(&mut self, n: usize) {
+        self.parent.clear();
+        self.parent.extend(0..n);
+        self.size.clear();
+        self.size.resize(n, 1);
     }
 
     fn find(&mut self, mut x: usize) -> usize {

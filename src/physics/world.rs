@@ -30,7 +30,7 @@ use crate::physics::contact::ContactManifold;
 use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::integrate::{self, Integrator};
-use crate::physics::islands::{self, SleepSettings};
+use crate::physics::islands::{self, IslandScratch, SleepSettings};
 use crate::physics::manifold_memory::ManifoldMemory;
 use crate::physics::narrow_phase;
 use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
@@ -81,6 +81,7 @@ pub struct World {
     /// again.
     solver_inputs: Vec<ContactInput>,
     soft_scratch: SoftScratch,
+    island_scratch: IslandScratch,
     /// The force list as the last step saw it: an edit wakes every body.
     forces_seen: Vec<EnvironmentForce>,
     awake: usize,
@@ -165,6 +166,7 @@ impl World {
             contact_cache: ContactCache::default(),
             solver_inputs: Vec::new(),
             soft_scratch: SoftScratch::default(),
+            island_scratch: IslandScratch::default(),
             forces_seen: Vec::new(),
             awake: 0,
             pairs: 0,
@@ -371,7 +373,8 @@ impl World {
             self.woken_for_no_sleep = false;
             let awake = self.awake_set.awake(&self.bodies);
             let sleep = &self.settings.sleep;
-            if islands::update(&mut self.bodies, awake, &self.manifolds, dt, sleep) {
+            let scratch = &mut self.island_scratch;
+            if islands::update(&mut self.bodies, awake, &self.manifolds, dt, sleep, scratch) {
                 self.awake_set.invalidate();
             }
         }
