@@ -39,18 +39,47 @@ pub fn contact_manifold(
     id_b: BodyId,
     margin: f64,
 ) -> Option<ContactManifold> {
-    let contacts = manifold_points(&PosedShape::of_body(a), &PosedShape::of_body(b), margin);
-    ContactManifold::new(id_a, id_b, contacts)
+    let mut manifolds = Vec::with_capacity(1);
+    push_contact_manifold((a, id_a), (b, id_b), margin, &mut manifolds);
+    manifolds.pop()
+}
+
+/// `contact_manifold` pushed onto `manifolds` when there is one (true), built where it is
+/// pushed: a manifold holds its contacts inline, and returning it copied it several times.
+pub fn push_contact_manifold(
+    (a, id_a): (&RigidBody, BodyId),
+    (b, id_b): (&RigidBody, BodyId),
+    margin: f64,
+    manifolds: &mut Vec<ContactManifold>,
+) -> bool {
+    manifolds.push(ContactManifold {
+        body_a: id_a,
+        body_b: id_b,
+        normal: DVec3::ZERO,
+        contacts: ManifoldPoints::new(),
+    });
+    let manifold = manifolds.last_mut().expect("just pushed");
+    let (a, b) = (PosedShape::of_body(a), PosedShape::of_body(b));
+    add_manifold_points(&a, &b, margin, &mut manifold.contacts);
+    // The deepest contact's normal, as `ContactManifold::new` takes it.
+    let Some(deepest) = manifold.contacts.first() else {
+        manifolds.pop();
+        return false;
+    };
+    manifold.normal = deepest.normal;
+    true
 }
 
 /// The contacts of two placed shapes (deepest first, at most `MAX_MANIFOLD_POINTS`).
 /// Compounds are split into their parts; their contacts may then carry different normals.
 pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
-    manifold_points(a, b, margin).to_vec()
+    let mut points = ManifoldPoints::new();
+    add_manifold_points(a, b, margin, &mut points);
+    points.to_vec()
 }
 
-/// `generate_contacts`, held inline.
-fn manifold_points(a: &PosedShape, b: &PosedShape, margin: f64) -> ManifoldPoints {
+/// `generate_contacts`, added to `points`.
+fn add_manifold_points(a: &PosedShape, b: &PosedShape, margin: f64, points: &mut ManifoldPoints) {
     let mut contacts = if let Some(parts) = a.compound_parts() {
         part_contacts(&parts, b, margin, true)
     } else if let Some(parts) = b.compound_parts() {
@@ -60,8 +89,8 @@ fn manifold_points(a: &PosedShape, b: &PosedShape, margin: f64) -> ManifoldPoint
     };
     contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
     reduce_by_area(&mut contacts);
-    // Copied out as a slice: collecting would move them out one by one.
-    ManifoldPoints::from_slice(&contacts)
+    // Copied over as a slice: extending would move them one by one.
+    points.extend_from_slice(&contacts);
 }
 
 /// The contacts of one pair before they are reduced: held inline up to a box face clipped
@@ -78,11 +107,12 @@ fn part_contacts(
     let mut contacts = Contacts::new();
     for (k, part) in parts.iter().enumerate() {
         let tag = ((k as u32 + 1) & 0xff) << 20;
-        let found = if parts_are_a {
-            manifold_points(part, other, margin)
+        let mut found = ManifoldPoints::new();
+        if parts_are_a {
+            add_manifold_points(part, other, margin, &mut found);
         } else {
-            manifold_points(other, part, margin)
-        };
+            add_manifold_points(other, part, margin, &mut found);
+        }
         contacts.extend(found.into_iter().map(|mut c| {
             if parts_are_a {
                 c.feature.on_a |= tag;

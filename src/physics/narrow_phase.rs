@@ -12,7 +12,7 @@ use crate::physics::aabb::Aabb;
 use crate::physics::body::{Motion, RigidBody};
 use crate::physics::broad_phase::{BodyPair, Proxy};
 use crate::physics::contact::ContactManifold;
-use crate::physics::manifold::contact_manifold;
+use crate::physics::manifold::push_contact_manifold;
 use crate::physics::manifold_memory::{ManifoldMemory, RememberedManifold};
 use crate::physics::shape::Shape;
 
@@ -163,10 +163,9 @@ impl Found {
         if !bounding_spheres_within(a, b, radii, margin) {
             return;
         }
-        if let Some(manifold) = contact_manifold(a, pair.a, b, pair.b, margin) {
-            self.remembered
-                .push(RememberedManifold::of(&manifold, a, b, margin));
-            self.manifolds.push(manifold);
+        if push_contact_manifold((a, pair.a), (b, pair.b), margin, &mut self.manifolds) {
+            let manifold = self.manifolds.last().expect("just pushed");
+            (self.remembered).push(RememberedManifold::of(manifold, a, b, margin));
         }
     }
 }
@@ -195,6 +194,7 @@ mod tests {
     use super::*;
     use crate::physics::body::{BodyDesc, BodyId};
     use crate::physics::hull::ConvexHull;
+    use crate::physics::manifold::contact_manifold;
 
     /// Over pairs of a round shape and every kind of shape, at distances and turns around
     /// touching, the sphere test never rules out a pair whose contact search finds
