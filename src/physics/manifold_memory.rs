@@ -120,7 +120,9 @@ impl RememberedManifold {
     /// The manifold carried to the bodies' current poses, keeping the contacts within
     /// `margin`; None when it must be generated again: the bodies have moved too far against
     /// each other for it, they can close more than what it left out in this step
-    /// (`closable`, the sum of their motion bounds), or no contact is left.
+    /// (`closable`, the sum of their motion bounds), or no contact is left. For tests: the
+    /// narrow phase uses `carry_into`.
+    #[cfg(test)]
     pub fn carried(
         &self,
         a: &RigidBody,
@@ -214,6 +216,8 @@ impl ManifoldMemory {
         ManifoldMemory { manifolds }
     }
 
+    /// `find_from` with a cursor of its own (for tests: the narrow phase keeps one).
+    #[cfg(test)]
     pub fn find(&self, a: BodyId, b: BodyId) -> Option<&RememberedManifold> {
         self.find_from(a, b, &mut 0)
     }
