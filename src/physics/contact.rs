@@ -81,16 +81,30 @@ pub const MAX_MANIFOLD_POINTS: usize = 4;
 pub type ManifoldPoints = SmallVec<[Contact; MAX_MANIFOLD_POINTS]>;
 
 impl ContactManifold {
-    /// The manifold of `contacts`, which come deepest first: its normal is the deepest
-    /// contact's. None when there are none.
-    pub fn new(body_a: BodyId, body_b: BodyId, contacts: ManifoldPoints) -> Option<Self> {
-        let normal = contacts.first()?.normal;
-        Some(ContactManifold {
+    /// Pushes onto `manifolds` the manifold of the contacts that `fill` adds, which it
+    /// leaves deepest first: the manifold's normal is the deepest contact's. Returns false,
+    /// and pushes nothing, when it adds none. The manifold is built where it is pushed: it
+    /// holds its contacts inline, and returning one copied it several times.
+    pub fn push_built(
+        manifolds: &mut Vec<ContactManifold>,
+        body_a: BodyId,
+        body_b: BodyId,
+        fill: impl FnOnce(&mut ManifoldPoints),
+    ) -> bool {
+        manifolds.push(ContactManifold {
             body_a,
             body_b,
-            normal,
-            contacts,
-        })
+            normal: DVec3::ZERO,
+            contacts: ManifoldPoints::new(),
+        });
+        let manifold = manifolds.last_mut().expect("just pushed");
+        fill(&mut manifold.contacts);
+        let Some(deepest) = manifold.contacts.first() else {
+            manifolds.pop();
+            return false;
+        };
+        manifold.normal = deepest.normal;
+        true
     }
 
     /// Stamps every contact with the time within the step at which it was found (after a

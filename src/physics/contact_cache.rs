@@ -6,10 +6,11 @@ use serde::{Deserialize, Serialize};
 use crate::physics::body::BodyId;
 use crate::physics::contact::{ContactManifold, FeatureId};
 use crate::physics::soft_solver::{ContactInput, WarmImpulse};
+use crate::physics::sorted_seek;
 
 type Key = (BodyId, BodyId, FeatureId);
 
-/// Sorted by key, so that a pair's entries are found by binary search and iteration order is
+/// Sorted by key, so that a pair's entries are found by a search and iteration order is
 /// deterministic.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactCache {
@@ -17,35 +18,19 @@ pub struct ContactCache {
 }
 
 impl ContactCache {
-    /// The entries of one body pair: found by one binary search per manifold, so that its
-    /// few points are then looked up among a handful.
-    fn entries_of(&self, a: BodyId, b: BodyId) -> &[(Key, WarmImpulse)] {
-        let start = self.entries.partition_point(|e| pair_of(e) < (a, b));
-        let rest = &self.entries[start..];
-        let length = rest.partition_point(|e| pair_of(e) == (a, b));
-        &rest[..length]
-    }
-
     /// The solver's view of this step's contacts, warm-started from the cache, into `inputs`
     /// (emptied first; kept by the caller so that its room is reused).
     pub fn solver_inputs(&self, manifolds: &[ContactManifold], inputs: &mut Vec<ContactInput>) {
         inputs.clear();
-        // The manifolds come in pair order, so one walk along the entries finds every
-        // pair's; a pair before the last one walked to is searched for.
-        let mut walked = 0;
-        let mut walked_to = None;
+        // The manifolds come in pair order, so each pair's entries are found by walking on
+        // from the last pair's (see `sorted_seek`); its few points are then looked up
+        // among a handful.
+        let mut cursor = 0;
         for m in manifolds {
             let pair = (m.body_a, m.body_b);
-            let remembered = if walked_to.is_none_or(|last| last <= pair) {
-                let rest = &self.entries[walked..];
-                let start = walked + rest.iter().take_while(|e| pair_of(e) < pair).count();
-                let rest = &self.entries[start..];
-                let length = rest.iter().take_while(|e| pair_of(e) == pair).count();
-                (walked, walked_to) = (start, Some(pair));
-                &rest[..length]
-            } else {
-                self.entries_of(m.body_a, m.body_b)
-            };
+            let start = sorted_seek::seek(&self.entries, pair_of, &pair, &mut cursor);
+            let rest = &self.entries[start..];
+            let remembered = &rest[..rest.iter().take_while(|e| pair_of(e) == pair).count()];
             inputs.extend(m.contacts.iter().map(|c| {
                 ContactInput {
                     a: m.body_a.index(),

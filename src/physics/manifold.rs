@@ -44,30 +44,18 @@ pub fn contact_manifold(
     manifolds.pop()
 }
 
-/// `contact_manifold` pushed onto `manifolds` when there is one (true), built where it is
-/// pushed: a manifold holds its contacts inline, and returning it copied it several times.
+/// `contact_manifold` pushed onto `manifolds` when there is one (true; see
+/// `ContactManifold::push_built`).
 pub fn push_contact_manifold(
     (a, id_a): (&RigidBody, BodyId),
     (b, id_b): (&RigidBody, BodyId),
     margin: f64,
     manifolds: &mut Vec<ContactManifold>,
 ) -> bool {
-    manifolds.push(ContactManifold {
-        body_a: id_a,
-        body_b: id_b,
-        normal: DVec3::ZERO,
-        contacts: ManifoldPoints::new(),
-    });
-    let manifold = manifolds.last_mut().expect("just pushed");
     let (a, b) = (PosedShape::of_body(a), PosedShape::of_body(b));
-    add_manifold_points(&a, &b, margin, &mut manifold.contacts);
-    // The deepest contact's normal, as `ContactManifold::new` takes it.
-    let Some(deepest) = manifold.contacts.first() else {
-        manifolds.pop();
-        return false;
-    };
-    manifold.normal = deepest.normal;
-    true
+    ContactManifold::push_built(manifolds, id_a, id_b, |points| {
+        add_manifold_points(&a, &b, margin, points)
+    })
 }
 
 /// The contacts of two placed shapes (deepest first, at most `MAX_MANIFOLD_POINTS`).
@@ -977,13 +965,12 @@ fn extra_points(posed: &PosedShape, normal: DVec3) -> SurfacePoints {
 const CAP_TAG: u32 = 3 << 28;
 
 /// Adds to `found` where a cylinder's cap faces a polyhedron: the polyhedron's face turned
-/// most against the cap, clipped to the cap's disc (its vertices inside the disc and its
-/// edges' crossings of the rim: up to 4 + 8 for a box face). The rim points of `extra_points` only sample the disc's
-/// edge, so a cap resting across a box's edge or corner had the box's corners under it
-/// unsupported but for the one deepest point: it tipped over them and sank up to 8 cm into
-/// the box in the rain scenes. The face's vertices inside the disc and its edges' crossings
-/// of the rim are the patch's other corners. `normal` points away from `cylinder`; points
-/// deeper than `deepest_allowed` are left out.
+/// most against the cap, clipped to the cap's disc. The rim points of `extra_points` only
+/// sample the disc's edge, so a cap resting across a box's edge or corner had the box's
+/// corners under it unsupported but for the one deepest point: it tipped over them and sank
+/// up to 8 cm into the box in the rain scenes. The face's vertices inside the disc and its
+/// edges' crossings of the rim (up to 4 + 8 for a box face) are the patch's other corners.
+/// `normal` points away from `cylinder`; points deeper than `deepest_allowed` are left out.
 fn add_cap_contacts(
     (cylinder, other, normal): (&PosedShape, &PosedShape, DVec3),
     margin: f64,

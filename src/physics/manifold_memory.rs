@@ -21,8 +21,9 @@ use smallvec::SmallVec;
 
 use crate::physics::body::{BodyId, RigidBody};
 use crate::physics::contact::{
-    Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS, ManifoldPoints,
+    Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS,
 };
+use crate::physics::sorted_seek;
 
 /// How far, m, any surface point of one body may have moved against the other since their
 /// manifold was generated for it to be carried. A tenth of the speculative distance, so that
@@ -136,9 +137,9 @@ impl RememberedManifold {
         carried.pop()
     }
 
-    /// `carried` pushed onto `manifolds` when there is one (true), built where it is
-    /// pushed: a manifold holds its contacts inline, and returning it copied it several
-    /// times. `radii` are the shapes' bounding radii, which the caller has at hand.
+    /// `carried` pushed onto `manifolds` when there is one (true; see
+    /// `ContactManifold::push_built`). `radii` are the shapes' bounding radii, which the
+    /// caller has at hand.
     pub fn carry_into(
         &self,
         a: &RigidBody,
@@ -156,37 +157,25 @@ impl RememberedManifold {
         if !within {
             return false;
         }
-        manifolds.push(ContactManifold {
-            body_a: self.body_a,
-            body_b: self.body_b,
-            normal: DVec3::ZERO,
-            contacts: ManifoldPoints::new(),
-        });
-        let manifold = manifolds.last_mut().expect("just pushed");
-        for c in &self.contacts {
-            let on_a = origin_a + a.orientation * c.on_a;
-            let on_b = origin_b + b.orientation * c.on_b;
-            let normal = a.orientation * c.normal;
-            let separation = (on_b - on_a).dot(normal);
-            if separation <= margin {
-                manifold.contacts.push(Contact {
-                    position: 0.5 * (on_a + on_b),
-                    normal,
-                    separation,
-                    kind: c.kind,
-                    feature: c.feature,
-                    time_of_impact: 0.0,
-                });
+        ContactManifold::push_built(manifolds, self.body_a, self.body_b, |points| {
+            for c in &self.contacts {
+                let on_a = origin_a + a.orientation * c.on_a;
+                let on_b = origin_b + b.orientation * c.on_b;
+                let normal = a.orientation * c.normal;
+                let separation = (on_b - on_a).dot(normal);
+                if separation <= margin {
+                    points.push(Contact {
+                        position: 0.5 * (on_a + on_b),
+                        normal,
+                        separation,
+                        kind: c.kind,
+                        feature: c.feature,
+                        time_of_impact: 0.0,
+                    });
+                }
             }
-        }
-        if manifold.contacts.is_empty() {
-            manifolds.pop();
-            return false;
-        }
-        // Deepest first, the normal the deepest's, as `ContactManifold::new` has them.
-        (manifold.contacts).sort_by(|x, y| x.separation.total_cmp(&y.separation));
-        manifold.normal = manifold.contacts[0].normal;
-        true
+            points.sort_by(|x, y| x.separation.total_cmp(&y.separation));
+        })
     }
 
     fn is_finite(&self) -> bool {
@@ -206,9 +195,6 @@ pub struct ManifoldMemory {
     manifolds: Vec<RememberedManifold>,
 }
 
-/// Entries `ManifoldMemory::find_from` steps through before it searches.
-const WALK: usize = 8;
-
 impl ManifoldMemory {
     /// `manifolds` must come sorted by body pair (the narrow phase's order).
     pub fn new(manifolds: Vec<RememberedManifold>) -> Self {
@@ -222,11 +208,9 @@ impl ManifoldMemory {
         self.find_from(a, b, &mut 0)
     }
 
-    /// `find`, starting where the last search left `cursor`. The narrow phase asks for its
-    /// pairs in ascending order, so the entry sought is usually a few ahead: walking there
-    /// replaced a binary search of about 13 probes per pair, each into another entry's
-    /// cache lines (2 % of a rain's instructions). A pair before the cursor, or far past it,
-    /// is still searched for.
+    /// `find`, starting where the last search left `cursor` (see `sorted_seek`): the
+    /// narrow phase asks for its pairs in ascending order. Walking replaced a binary search
+    /// of about 13 probes per pair (2 % of a rain's instructions).
     pub fn find_from(
         &self,
         a: BodyId,
@@ -234,22 +218,8 @@ impl ManifoldMemory {
         cursor: &mut usize,
     ) -> Option<&RememberedManifold> {
         let key = |m: &RememberedManifold| (m.body_a, m.body_b);
-        let sought = (a, b);
-        let manifolds = &self.manifolds;
-        let mut at = (*cursor).min(manifolds.len());
-        if at > 0 && key(&manifolds[at - 1]) >= sought {
-            at = manifolds[..at].partition_point(|m| key(m) < sought);
-        } else {
-            let walk_end = (at + WALK).min(manifolds.len());
-            while at < walk_end && key(&manifolds[at]) < sought {
-                at += 1;
-            }
-            if at == walk_end {
-                at += manifolds[at..].partition_point(|m| key(m) < sought);
-            }
-        }
-        *cursor = at;
-        manifolds.get(at).filter(|m| key(m) == sought)
+        let at = sorted_seek::seek(&self.manifolds, key, &(a, b), cursor);
+        self.manifolds.get(at).filter(|m| key(m) == (a, b))
     }
 
     /// Drops what was remembered about `bodies` (added, edited or removed since: their

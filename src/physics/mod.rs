@@ -31,6 +31,7 @@ pub mod shape;
 pub mod snapshot;
 pub mod soft_solver;
 pub mod solver_bodies;
+pub mod sorted_seek;
 pub mod stage_times;
 pub mod toi;
 pub mod world;
