@@ -115,8 +115,15 @@ impl SupportMap for PosedShape<'_> {
     }
 
     fn inner_point(&self) -> DVec3 {
-        let (min, max) = self.shape.local_bounds();
-        self.to_world(0.5 * (min + max))
+        match self.shape {
+            // Only these may sit off their origin; the primitives are centred on it, and
+            // their bounds' centre is exactly the origin, for no work.
+            Shape::ConvexHull(_) | Shape::Compound(_) => {
+                let (min, max) = self.shape.local_bounds();
+                self.to_world(0.5 * (min + max))
+            }
+            _ => self.origin,
+        }
     }
 
     fn core_segment(&self) -> Option<[DVec3; 2]> {
