@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::{DMat3, DQuat, DVec3};
 use proptest::prelude::*;
 use rigid::physics::epa::{signed_distance, signed_distance_within};
-use rigid::physics::gjk::{GJK_MAX_ITERATIONS, SupportMap};
+use rigid::physics::gjk::{EXACT, GJK_MAX_ITERATIONS, SupportMap};
 use rigid::physics::{ConvexHull, PosedShape, Shape, gjk_distance, gjk_intersects, penetration};
 
 #[derive(Clone, Debug)]
@@ -468,10 +468,33 @@ proptest! {
         let (a, b) = (posed(&shape_a, pa), posed(&shape_b, pb));
         let full = signed_distance(&a, &b);
         let limit = limit_fraction * full.distance.abs();
-        match signed_distance_within(&a, &b, limit) {
+        match signed_distance_within(&a, &b, limit, EXACT) {
             Some(within) => prop_assert_eq!(within, full),
             None => prop_assert!(full.distance > limit, "{} ≤ {limit}", full.distance),
         }
+    }
+
+    /// A search stopped at an accuracy may overstate the gap by that much of the pair's size,
+    /// never understate it (GJK closes on the distance from above, EPA on the depth from
+    /// below), and agrees with the exact search whether the shapes overlap.
+    #[test]
+    fn a_coarse_accuracy_overstates_the_gap_by_at_most_that(
+        sa in spec(), sb in spec(), pa in pose(), pb in pose(),
+    ) {
+        const ACCURACY: f64 = 1e-6;
+        let (shape_a, shape_b) = (sa.shape(), sb.shape());
+        let (a, b) = (posed(&shape_a, pa), posed(&shape_b, pb));
+        let exact = signed_distance(&a, &b);
+        let coarse = signed_distance_within(&a, &b, f64::INFINITY, ACCURACY).unwrap();
+        let size = pa.0.distance(pb.0) + sa.size() + sb.size();
+        if exact.distance.abs() > 2.0 * ACCURACY * size {
+            prop_assert_eq!(coarse.distance > 0.0, exact.distance > 0.0);
+        }
+        prop_assert!(coarse.distance >= exact.distance - 1e-9 * size, "{coarse:?} {exact:?}");
+        prop_assert!(
+            coarse.distance <= exact.distance + ACCURACY * size + 1e-9 * size,
+            "{coarse:?} {exact:?}"
+        );
     }
 
     #[test]

@@ -10,7 +10,7 @@ use glam::DVec3;
 use smallvec::{SmallVec, smallvec};
 
 use crate::physics::gjk::{
-    CoreDistance, Simplex, SupportMap, SupportPoint, gjk_core_distance_within,
+    CoreDistance, EXACT, Simplex, SupportMap, SupportPoint, gjk_core_distance_within,
 };
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,15 +47,18 @@ const RELATIVE_TOLERANCE: f64 = 1e-9;
 /// margins, EPA on the cores when the cores themselves overlap (then the margins add to the
 /// core depth, which keeps round shapes exact).
 pub fn signed_distance(a: &impl SupportMap, b: &impl SupportMap) -> SignedDistance {
-    signed_distance_within(a, b, f64::INFINITY).expect("no distance is beyond an infinite limit")
+    signed_distance_within(a, b, f64::INFINITY, EXACT)
+        .expect("no distance is beyond an infinite limit")
 }
 
 /// The signed distance when it is at most `limit`, else None (found without converging on
-/// the distance of shapes that are farther apart: see `gjk_core_distance_within`).
+/// the distance of shapes that are farther apart: see `gjk_core_distance_within`, which
+/// also says what `accuracy` allows of a gap).
 pub fn signed_distance_within(
     a: &impl SupportMap,
     b: &impl SupportMap,
     limit: f64,
+    accuracy: f64,
 ) -> Option<SignedDistance> {
     if let Some(found) = point_against_surface(a, b) {
         return (found.distance <= limit).then_some(found);
@@ -69,12 +72,12 @@ pub fn signed_distance_within(
         });
     }
     let margins = a.margin() + b.margin();
-    let core = gjk_core_distance_within(a, b, limit + margins)?;
+    let core = gjk_core_distance_within(a, b, limit + margins, accuracy)?;
     if !core.overlap && core.distance > f64::MIN_POSITIVE {
         let found = from_separate_cores(a, b, &core);
         return (found.distance <= limit).then_some(found);
     }
-    let p = epa(a, b, &core.simplex);
+    let p = epa(a, b, &core.simplex, accuracy);
     let found = SignedDistance {
         distance: -(p.depth + a.margin() + b.margin()),
         normal: p.normal,
@@ -290,7 +293,14 @@ impl Face {
 }
 
 /// EPA on the cores (margins excluded) from a GJK core simplex whose hull holds the origin.
-pub fn epa(a: &impl SupportMap, b: &impl SupportMap, simplex: &Simplex) -> Penetration {
+/// The depth found is at most `accuracy` × the size of the polytope (and never less than
+/// round-off allows) below the true one.
+pub fn epa(
+    a: &impl SupportMap,
+    b: &impl SupportMap,
+    simplex: &Simplex,
+    accuracy: f64,
+) -> Penetration {
     let mut polytope = match initial_polytope(a, b, simplex) {
         Ok(polytope) => polytope,
         Err(flat) => return flat_penetration(a, b, &flat, simplex.witnesses()),
@@ -300,7 +310,7 @@ pub fn epa(a: &impl SupportMap, b: &impl SupportMap, simplex: &Simplex) -> Penet
         .iter()
         .map(|p| p.w.length())
         .fold(0.0, f64::max);
-    let tolerance = RELATIVE_TOLERANCE * scale.max(f64::MIN_POSITIVE);
+    let tolerance = RELATIVE_TOLERANCE.max(accuracy) * scale.max(f64::MIN_POSITIVE);
     let mut iterations = 0;
     // Every face of a degenerate start (shapes squashed to nothing, non-finite supports) can
     // be a sliver without a normal: then the simplex is treated as flat.

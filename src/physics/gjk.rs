@@ -317,6 +317,8 @@ pub const GJK_MAX_ITERATIONS: u32 = 64;
 
 /// Relative progress below which GJK stops: ‖v‖² − v·w ≤ ε ‖v‖².
 const RELATIVE_TOLERANCE: f64 = 1e-12;
+/// The `accuracy` of a search that runs to round-off.
+pub const EXACT: f64 = 0.0;
 /// Round-off floor, relative to the square of the size of the simplex.
 const ROUND_OFF: f64 = 1e-14;
 /// Below this squared distance (relative to the simplex size) the cores touch.
@@ -357,17 +359,21 @@ pub fn gjk_intersects(a: &impl SupportMap, b: &impl SupportMap) -> bool {
 
 /// GJK on the cores of the shapes.
 pub fn gjk_core_distance(a: &impl SupportMap, b: &impl SupportMap) -> CoreDistance {
-    gjk_core_distance_within(a, b, f64::INFINITY).expect("no distance is beyond an infinite limit")
+    gjk_core_distance_within(a, b, f64::INFINITY, EXACT)
+        .expect("no distance is beyond an infinite limit")
 }
 
 /// GJK on the cores, or None as soon as the cores are known to be farther apart than
 /// `limit`. Contact generation only wants pairs within its margin, and most pairs the broad
 /// phase reports are well beyond it: a support plane proves that after a few iterations,
 /// where converging on the distance of two curved shapes takes tens.
+/// The distance found is at most `accuracy` × the size of the simplex above the true one
+/// (`EXACT`: to round-off).
 pub fn gjk_core_distance_within(
     a: &impl SupportMap,
     b: &impl SupportMap,
     limit: f64,
+    accuracy: f64,
 ) -> Option<CoreDistance> {
     if let (Some(core_a), Some(core_b)) = (a.core_segment(), b.core_segment())
         && let Some((point_a, point_b, distance)) = separated_segments(core_a, core_b)
@@ -410,7 +416,11 @@ pub fn gjk_core_distance_within(
         }
         let gap = v_sq - support_along_v;
         let floor = ROUND_OFF * scale_sq.max(w.w.length_squared());
-        if gap <= RELATIVE_TOLERANCE * v_sq + floor || simplex.contains_w(w.w, DUPLICATE * scale_sq)
+        // gap / ‖v‖ bounds how far ‖v‖ is above the distance; squared, as gap > 0 here.
+        let accurate_enough = gap * gap <= accuracy * accuracy * scale_sq * v_sq;
+        if gap <= RELATIVE_TOLERANCE * v_sq + floor
+            || accurate_enough
+            || simplex.contains_w(w.w, DUPLICATE * scale_sq)
         {
             break;
         }

@@ -876,9 +876,15 @@ fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
     extra
 }
 
+/// How far above the true gap a contact's separation may be, as a fraction of the pair's
+/// size: 0.3 µm on the rain's bodies, against a solver that holds contacts to millimetres.
+/// GJK closes on a curved shape's distance by halves: a cylinder's pairs took 15 to 22
+/// iterations to round-off, and this stops them about 4 to 8 iterations earlier.
+const CONTACT_ACCURACY: f64 = 1e-6;
+
 /// The closest pair of points (GJK, or EPA when the cores overlap) as one contact.
 fn closest_contact(a: &PosedShape, b: &PosedShape, margin: f64) -> Option<Contact> {
-    let signed = signed_distance_within(a, b, margin)?;
+    let signed = signed_distance_within(a, b, margin, CONTACT_ACCURACY)?;
     Some(Contact {
         position: 0.5 * (signed.point_a + signed.point_b),
         normal: signed.normal,
@@ -1086,7 +1092,7 @@ fn point_contact(
     index: u32,
     point_is_a: bool,
 ) -> Option<Contact> {
-    let signed = signed_distance_within(point, other, margin)?;
+    let signed = signed_distance_within(point, other, margin, CONTACT_ACCURACY)?;
     if signed.normal.dot(normal) < 1.0 - FLAT_COSINE {
         return None;
     }
