@@ -500,3 +500,79 @@ fn max_penetration_reports_the_overlap_found_before_solving() {
         world.max_penetration()
     );
 }
+
+#[test]
+fn bodies_flying_together_make_no_contacts_with_each_other() {
+    // No gravity: a row of boxes 10 cm apart, all at 20 m/s along the row's normal. Each
+    // moves 33 cm a step, more than the gaps, but they close at the spread of their
+    // velocities, which is nothing.
+    let mut world = World::default();
+    let velocity = DVec3::new(0.0, 0.0, 20.0);
+    let ids: Vec<BodyId> = (0..5)
+        .map(|k| {
+            let desc = BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.2)))
+                .at(DVec3::X * (0.5 * k as f64))
+                .with_velocity(velocity);
+            world.add_body(desc).unwrap()
+        })
+        .collect();
+    for step in 0..30 {
+        world.step(1.0 / 60.0);
+        assert!(world.pair_count() > 0, "the broad phase pairs them");
+        assert_eq!(world.contacts().len(), 0, "step {step}");
+    }
+    for (k, &id) in ids.iter().enumerate() {
+        let body = world.body(id);
+        assert!((body.position.x - 0.5 * k as f64).abs() < 1e-12);
+        assert!((body.velocity() - velocity).length() < 1e-12);
+    }
+}
+
+#[test]
+fn a_body_trailing_a_plate_that_a_wall_stops_does_not_pass_through_it() {
+    // A 1 cm plate flies at 30 m/s (50 cm a step) into a wall 20 cm ahead, with a ball
+    // trailing it by 10 cm at the same speed. Within one step the wall stops the plate and
+    // the ball must stop on it: at the start of that step they were not closing at all, and
+    // a margin from their relative speed alone lets the ball through the plate.
+    let mut world = World::default();
+    world
+        .add_body(BodyDesc::fixed(Shape::cuboid(DVec3::new(0.5, 2.0, 2.0))).at(DVec3::X * 1.0))
+        .unwrap();
+    let inelastic = Material {
+        restitution: 0.0,
+        ..Material::default()
+    };
+    let velocity = DVec3::X * 30.0;
+    let plate_x = 0.5 - 0.2 - 0.005;
+    let plate = world
+        .add_body(
+            BodyDesc::dynamic(Shape::cuboid(DVec3::new(0.005, 0.3, 0.3)))
+                .at(DVec3::X * plate_x)
+                .with_velocity(velocity)
+                .with_material(inelastic),
+        )
+        .unwrap();
+    let radius = 0.05;
+    let ball = world
+        .add_body(
+            BodyDesc::dynamic(Shape::sphere(radius))
+                .at(DVec3::X * (plate_x - 0.005 - 0.1 - radius))
+                .with_velocity(velocity)
+                .with_material(inelastic),
+        )
+        .unwrap();
+    for step in 0..30 {
+        world.step(1.0 / 60.0);
+        let plate_back = world.body(plate).position.x - 0.005;
+        let ball_front = world.body(ball).position.x + radius;
+        assert!(
+            plate_back + 0.01 < 0.5 + 0.005,
+            "step {step}: the plate passed the wall"
+        );
+        // Soft contacts may overlap by a few mm while they push apart, never by the plate.
+        assert!(
+            ball_front < plate_back + 0.005,
+            "step {step}: the ball's front {ball_front} passed the plate's back {plate_back}"
+        );
+    }
+}

@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::physics::body::{BodyId, RigidBody};
 use crate::physics::contact::ContactManifold;
+use crate::physics::union_find::UnionFind;
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -117,41 +118,4 @@ pub fn update(
         changed = true;
     }
     changed
-}
-
-/// Disjoint sets with path halving and union by size.
-#[derive(Clone, Debug, Default)]
-struct UnionFind {
-    parent: Vec<usize>,
-    size: Vec<usize>,
-}
-
-impl UnionFind {
-    /// `n` sets of one element each.
-    fn reset(&mut self, n: usize) {
-        self.parent.clear();
-        self.parent.extend(0..n);
-        self.size.clear();
-        self.size.resize(n, 1);
-    }
-
-    fn find(&mut self, mut x: usize) -> usize {
-        while self.parent[x] != x {
-            self.parent[x] = self.parent[self.parent[x]];
-            x = self.parent[x];
-        }
-        x
-    }
-
-    fn union(&mut self, a: usize, b: usize) {
-        let (mut ra, mut rb) = (self.find(a), self.find(b));
-        if ra == rb {
-            return;
-        }
-        if self.size[ra] < self.size[rb] {
-            std::mem::swap(&mut ra, &mut rb);
-        }
-        self.parent[rb] = ra;
-        self.size[ra] += self.size[rb];
-    }
 }

@@ -121,7 +121,7 @@ impl RememberedManifold {
     /// The manifold carried to the bodies' current poses, keeping the contacts within
     /// `margin`; None when it must be generated again: the bodies have moved too far against
     /// each other for it, they can close more than what it left out in this step
-    /// (`closable`, the sum of their motion bounds), or no contact is left. For tests: the
+    /// (`closable`, see `closing_speed`), or no contact is left. For tests: the
     /// narrow phase uses `carry_into`.
     #[cfg(test)]
     pub fn carried(

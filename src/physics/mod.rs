@@ -8,6 +8,7 @@ pub mod awake_set;
 pub mod body;
 pub mod broad_phase;
 pub mod classic;
+pub mod closing_speed;
 pub mod compound;
 pub mod contact;
 pub mod contact_cache;
@@ -34,6 +35,7 @@ pub mod solver_bodies;
 pub mod sorted_seek;
 pub mod stage_times;
 pub mod toi;
+pub mod union_find;
 pub mod world;
 
 pub use aabb::Aabb;

@@ -2,8 +2,8 @@
 //!
 //! Contacts are generated while bodies are still apart (speculative contacts) whenever their
 //! surfaces could meet within the step: the margin of a pair is a small fixed distance plus
-//! how far each body's surface can move in dt. The solver then lets such a gap close and no
-//! more, which is what keeps fast bodies from tunnelling.
+//! how far the two surfaces can approach each other in dt (see `closing_speed`). The solver
+//! then lets such a gap close and no more, which is what keeps fast bodies from tunnelling.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -11,6 +11,7 @@ use rayon::prelude::*;
 use crate::physics::aabb::Aabb;
 use crate::physics::body::{Motion, RigidBody};
 use crate::physics::broad_phase::{BodyPair, Proxy};
+use crate::physics::closing_speed::{Clusters, PairReach, surface_speed};
 use crate::physics::contact::ContactManifold;
 use crate::physics::manifold::push_contact_manifold;
 use crate::physics::manifold_memory::{ManifoldMemory, RememberedManifold};
@@ -24,16 +25,7 @@ pub fn motion_bound(body: &RigidBody, dt: f64) -> f64 {
     if !body.is_awake() {
         return 0.0; // without measuring the shape
     }
-    motion_bound_with_radius(body, body.shape.bounding_radius(), dt)
-}
-
-/// `motion_bound` for a shape whose bounding radius is at hand.
-fn motion_bound_with_radius(body: &RigidBody, radius: f64, dt: f64) -> f64 {
-    if !body.is_awake() {
-        return 0.0;
-    }
-    let reach = radius + body.local_center.length();
-    (body.velocity().length() + body.angular_velocity().length() * reach) * dt.abs()
+    surface_speed(body, body.shape.bounding_radius()) * dt.abs()
 }
 
 /// A proxy that overlaps nothing.
@@ -79,11 +71,13 @@ const PAIRS_PER_TASK: usize = 64;
 /// The manifolds of all candidate pairs whose surfaces are, or may come, within reach, in
 /// pair order, and what to remember of them for the next step. A pair that has barely moved
 /// since `memory` saw it carries its remembered manifold (see `manifold_memory`); the others
-/// are generated. Pairs are independent, so they are computed on all threads; the collected
+/// are generated. `clusters` holds what was measured of these pairs' bodies this step.
+/// Pairs are independent, so they are computed on all threads; the collected
 /// order, and so every later stage, is the same for any number of threads.
 pub fn find_manifolds(
     bodies: &[RigidBody],
     pairs: &[BodyPair],
+    clusters: &Clusters,
     dt: f64,
     memory: &ManifoldMemory,
 ) -> (Vec<ContactManifold>, ManifoldMemory) {
@@ -93,12 +87,12 @@ pub fn find_manifolds(
     };
     if rayon::current_num_threads() == 1 {
         // Handing the work to a pool of one thread only adds its wake-ups.
-        found.add_pairs(bodies, pairs, dt, memory);
+        found.add_pairs(bodies, pairs, clusters, dt, memory);
     } else {
         let parts: Vec<Found> = (pairs.par_chunks(PAIRS_PER_TASK))
             .map(|chunk| {
                 let mut part = Found::default();
-                part.add_pairs(bodies, chunk, dt, memory);
+                part.add_pairs(bodies, chunk, clusters, dt, memory);
                 part
             })
             .collect();
@@ -125,13 +119,15 @@ impl Found {
         &mut self,
         bodies: &[RigidBody],
         pairs: &[BodyPair],
+        clusters: &Clusters,
         dt: f64,
         memory: &ManifoldMemory,
     ) {
         // Where the search of `memory` starts (see `ManifoldMemory::find_from`).
         let mut cursor = 0;
         for pair in pairs {
-            self.add_pair(bodies, pair, dt, memory, &mut cursor);
+            let reach = clusters.reach_of(pair, dt);
+            self.add_pair(bodies, pair, reach, memory, &mut cursor);
         }
     }
 
@@ -139,7 +135,7 @@ impl Found {
         &mut self,
         bodies: &[RigidBody],
         pair: &BodyPair,
-        dt: f64,
+        PairReach { radii, closable }: PairReach,
         memory: &ManifoldMemory,
         cursor: &mut usize,
     ) {
@@ -147,10 +143,6 @@ impl Found {
         if !a.is_awake() && !b.is_awake() {
             return;
         }
-        // Measured once: both the motion bound and the bounding spheres need them.
-        let radii = [a.shape.bounding_radius(), b.shape.bounding_radius()];
-        let closable =
-            motion_bound_with_radius(a, radii[0], dt) + motion_bound_with_radius(b, radii[1], dt);
         let margin = SPECULATIVE_DISTANCE + closable;
         let remembered = memory.find_from(pair.a, pair.b, cursor);
         if let Some(remembered) = remembered

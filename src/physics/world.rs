@@ -26,6 +26,7 @@ use crate::physics::awake_set::AwakeSet;
 use crate::physics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
 use crate::physics::broad_phase::{BodyPair, BroadPhaseKind, Proxy, SplitBroadPhase};
 use crate::physics::classic::{self, ClassicContext, ClassicReport, ClassicSettings};
+use crate::physics::closing_speed::Clusters;
 use crate::physics::contact::ContactManifold;
 use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::{self, EnvironmentForce};
@@ -76,6 +77,8 @@ pub struct World {
     manifolds: Vec<ContactManifold>,
     /// The last step's manifolds in their bodies' frames, carried while pairs barely move.
     manifold_memory: ManifoldMemory,
+    /// The bodies of this step's pairs, grouped by them (see `closing_speed`).
+    clusters: Clusters,
     contact_cache: ContactCache,
     /// The soft solver's contacts and buffers, kept so that a step does not allocate them
     /// again.
@@ -163,6 +166,7 @@ impl World {
             woken_for_no_sleep: false,
             manifolds: Vec::new(),
             manifold_memory: ManifoldMemory::default(),
+            clusters: Clusters::default(),
             contact_cache: ContactCache::default(),
             solver_inputs: Vec::new(),
             soft_scratch: SoftScratch::default(),
@@ -319,8 +323,14 @@ impl World {
             self.pairs = pairs.len();
             times.broad_phase = clock.lap();
             self.manifold_memory.forget(&touched);
-            (self.manifolds, self.manifold_memory) =
-                narrow_phase::find_manifolds(&self.bodies, &pairs, dt, &self.manifold_memory);
+            self.clusters.measure(&self.bodies, &pairs);
+            (self.manifolds, self.manifold_memory) = narrow_phase::find_manifolds(
+                &self.bodies,
+                &pairs,
+                &self.clusters,
+                dt,
+                &self.manifold_memory,
+            );
             times.narrow_phase = clock.lap();
             self.update_sleep(dt);
             let bodies = &self.bodies;
