@@ -253,16 +253,19 @@ fn sign_or_positive(v: DVec3) -> DVec3 {
 mod tests {
     use super::*;
 
-    /// The closed-form bounds of the primitives are what their support functions give.
-    #[test]
-    fn closed_form_bounds_match_the_supports() {
-        let shapes = [
+    fn primitives() -> [Shape; 4] {
+        [
             Shape::sphere(0.3),
             Shape::cuboid(DVec3::new(0.1, 0.25, 0.7)),
             Shape::capsule(0.4, 0.15),
             Shape::cylinder(0.2, 0.35),
-        ];
-        for shape in shapes {
+        ]
+    }
+
+    /// The closed-form bounds of the primitives are what their support functions give.
+    #[test]
+    fn closed_form_bounds_match_the_supports() {
+        for shape in primitives() {
             assert_eq!(
                 shape.local_bounds(),
                 shape.bounds_from_supports(),
@@ -276,13 +279,7 @@ mod tests {
     /// directions none goes beyond it, and the farthest comes within 0.1 % of it.
     #[test]
     fn a_primitive_bounding_radius_is_its_farthest_support() {
-        let shapes = [
-            Shape::sphere(0.3),
-            Shape::cuboid(DVec3::new(0.1, 0.25, 0.7)),
-            Shape::capsule(0.4, 0.15),
-            Shape::cylinder(0.2, 0.35),
-        ];
-        for shape in shapes {
+        for shape in primitives() {
             let radius = shape.bounding_radius();
             let mut farthest: f64 = 0.0;
             for i in 0..4000 {
