@@ -417,11 +417,14 @@ fn a_body_that_goes_non_finite_is_isolated_the_same_step() {
 }
 
 /// The stage profile splits a soft step's integration from its contact solve; the classic
-/// pipeline interleaves them, and counts both under solve.
+/// pipeline interleaves them, and counts both under solve. Unasked, no stage is timed.
 #[test]
 fn stage_times_split_integration_from_the_contact_solve() {
     let mut world = world_with(Integrator::Midpoint, gravity());
     add(&mut world, BodyDesc::dynamic(Shape::sphere(0.1)));
+    world.step(0.01);
+    assert_eq!(world.stage_times(), rigid::physics::StageTimes::default());
+    world.set_stage_timing(true);
     world.step(0.01);
     let t = world.stage_times();
     assert!(t.integrate > 0.0, "{t:?}");

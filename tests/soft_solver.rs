@@ -143,6 +143,7 @@ impl Sim {
             integrator: Integrator::Midpoint,
             settings: &self.settings,
             dt,
+            timed: false,
         };
         let awake: Vec<u32> = (0..self.bodies.len() as u32)
             .filter(|&i| self.bodies[i as usize].is_awake())

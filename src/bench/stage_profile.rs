@@ -21,6 +21,7 @@ pub const SCENES: [&str; 8] = [
 pub fn profile(name: &str) -> (StageTimes, usize) {
     let scene = scene::load(name).expect("built-in scene");
     let mut world = scene.build_world().expect("built-in scene builds");
+    world.set_stage_timing(true);
     let steps = (SECONDS / scene.settings.dt).round() as usize;
     let mut sum = StageTimes::default();
     for _ in 0..steps {

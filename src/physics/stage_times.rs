@@ -1,6 +1,7 @@
 //! Where a step's time goes: wall time of each stage of the last step, for the viewer's
-//! counters and the benchmark's stage profile. On the web (wasm32 without a clock in std)
-//! every time reads 0.
+//! counters and the benchmark's stage profile, measured only while the world is asked to
+//! (`World::set_stage_timing`). On the web (wasm32 without a clock in std) every time
+//! reads 0.
 
 #[cfg(not(target_arch = "wasm32"))]
 use web_time::Instant;
@@ -34,25 +35,32 @@ impl StageTimes {
     }
 }
 
-/// Laps of a clock: each `lap` returns the seconds since the previous one.
+/// Laps of a clock: each `lap` returns the seconds since the previous one, or 0 when the
+/// clock was started off. A step reads the clock about five times per substep, which is
+/// a quarter of a two-body step's time: it is read only when someone asked for the times.
 pub struct Stopwatch {
     #[cfg(not(target_arch = "wasm32"))]
-    last: Instant,
+    last: Option<Instant>,
 }
 
 impl Stopwatch {
-    pub fn start() -> Self {
+    /// A clock that runs when `on`, and otherwise reads 0 at every lap.
+    #[cfg_attr(target_arch = "wasm32", allow(unused_variables))]
+    pub fn start(on: bool) -> Self {
         Stopwatch {
             #[cfg(not(target_arch = "wasm32"))]
-            last: Instant::now(),
+            last: on.then(Instant::now),
         }
     }
 
     #[cfg(not(target_arch = "wasm32"))]
     pub fn lap(&mut self) -> f64 {
+        let Some(last) = &mut self.last else {
+            return 0.0;
+        };
         let now = Instant::now();
-        let seconds = (now - self.last).as_secs_f64();
-        self.last = now;
+        let seconds = (now - *last).as_secs_f64();
+        *last = now;
         seconds
     }
 

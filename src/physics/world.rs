@@ -92,6 +92,8 @@ pub struct World {
     pairs: usize,
     classic_report: ClassicReport,
     stage_times: StageTimes,
+    /// Whether steps measure `stage_times`.
+    stage_timing: bool,
     /// Environmental forces, applied to every dynamic body each step. Edit freely.
     pub forces: Vec<EnvironmentForce>,
     pub settings: WorldSettings,
@@ -176,6 +178,7 @@ impl World {
             pairs: 0,
             classic_report: ClassicReport::default(),
             stage_times: StageTimes::default(),
+            stage_timing: false,
             forces: Vec::new(),
             settings,
             time: 0.0,
@@ -311,7 +314,7 @@ impl World {
     }
 
     fn advance(&mut self, dt: f64) {
-        let mut clock = Stopwatch::start();
+        let mut clock = Stopwatch::start(self.stage_timing);
         let mut times = StageTimes::default();
         let touched = self.awake_set.take_touched();
         // A non-finite user force or state is caught before any contact can spread it.
@@ -362,9 +365,16 @@ impl World {
         self.steps += 1;
     }
 
-    /// Where the last step's time went.
+    /// Where the last step's time went; all zeros unless `set_stage_timing(true)` was called
+    /// before it.
     pub fn stage_times(&self) -> StageTimes {
         self.stage_times
+    }
+
+    /// Whether the following steps measure their stages' wall time. Off by default: it
+    /// reads the clock several times per substep, which small scenes notice.
+    pub fn set_stage_timing(&mut self, on: bool) {
+        self.stage_timing = on;
     }
 
     /// Islands of the awake bodies fall asleep or wake (see `islands`). With sleeping off,
@@ -503,6 +513,7 @@ impl World {
             integrator: self.settings.integrator,
             settings: &self.settings.solver,
             dt,
+            timed: self.stage_timing,
         };
         let awake = self.awake_set.awake(&self.bodies);
         let step = soft_solver::step(

@@ -388,6 +388,8 @@ impl Simulation {
         self.scene = name.to_string();
         self.camera = setup.camera;
         self.world = setup.world;
+        // The panel shows where each step's time goes.
+        self.world.set_stage_timing(true);
         self.spawn_boxes = None;
         self.hidden = setup.hidden;
         self.materials = setup.materials;
