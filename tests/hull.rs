@@ -9,6 +9,9 @@ use rigid::physics::{
     MassProperties, Shape, ShapeError, World,
 };
 
+mod common;
+use common::xorshift::XorShift;
+
 const DENSITY: f64 = 1200.0;
 
 fn matrix_error(actual: DMat3, expected: DMat3) -> f64 {
@@ -175,23 +178,6 @@ fn cuboid_constructor_matches_the_hull_of_its_corners() {
     let plus_x = built.faces.iter().find(|f| f.normal.x > 0.5).unwrap();
     assert!((plus_x.normal - DVec3::X).length() < 1e-15);
     assert!((plus_x.offset - half.x).abs() < 1e-15);
-}
-
-/// A small xorshift generator, for reproducible clouds without dependencies.
-struct XorShift(u64);
-
-impl XorShift {
-    /// Uniform in [0, 1).
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn in_unit_cube(&mut self) -> DVec3 {
-        DVec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0
-    }
 }
 
 /// N points spread evenly over a sphere: the golden-angle (Fibonacci) spiral.

@@ -7,6 +7,9 @@ use std::sync::Arc;
 use glam::{DMat3, DQuat, DVec3};
 use rigid::physics::{Compound, CompoundPart, ConvexHull, MassProperties, Pose, Shape};
 
+mod common;
+use common::xorshift::XorShift;
+
 const DENSITY: f64 = 750.0;
 
 fn relative_error(actual: f64, expected: f64) -> f64 {
@@ -143,23 +146,6 @@ fn capsule_matches_disc_slices() {
     ]);
     // Same polynomial-integrand argument as for the sphere.
     assert_revolution(props, slices, 1e-10);
-}
-
-/// A small xorshift generator, so the Monte Carlo test is reproducible without dependencies.
-struct XorShift(u64);
-
-impl XorShift {
-    /// Uniform in [0, 1).
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn in_box(&mut self, half: DVec3) -> DVec3 {
-        DVec3::new(self.next(), self.next(), self.next()) * 2.0 * half - half
-    }
 }
 
 #[test]

@@ -89,41 +89,34 @@ fn check_golden(name: &str, image: &RgbaImage) {
     }
 }
 
+/// A built-in scene after 30 steps, without overlays, against its golden image.
+fn check_scene_golden(gpu: &Gpu, scene: &str) {
+    check_golden(
+        scene,
+        &render(gpu, &simulate(scene, 30), Overlays::default()),
+    );
+}
+
 #[test]
 fn falling_box_matches_golden() {
-    let gpu = gpu();
-    check_golden(
-        "falling_box",
-        &render(&gpu, &simulate("falling_box", 30), Overlays::default()),
-    );
+    check_scene_golden(&gpu(), "falling_box");
 }
 
 #[test]
 fn pachinko_matches_golden() {
-    let gpu = gpu();
-    check_golden(
-        "pachinko",
-        &render(&gpu, &simulate("pachinko", 30), Overlays::default()),
-    );
+    check_scene_golden(&gpu(), "pachinko");
 }
 
 #[test]
 fn hulls_match_golden() {
-    let gpu = gpu();
-    check_golden(
-        "hulls",
-        &render(&gpu, &simulate("hulls", 30), Overlays::default()),
-    );
+    check_scene_golden(&gpu(), "hulls");
 }
 
 #[test]
 fn bounce_stack_spin_and_rain_match_goldens() {
     let gpu = gpu();
     for scene in ["bounce", "stack", "dzhanibekov", "rain"] {
-        check_golden(
-            scene,
-            &render(&gpu, &simulate(scene, 30), Overlays::default()),
-        );
+        check_scene_golden(&gpu, scene);
     }
 }
 

@@ -6,17 +6,6 @@ use crate::scene;
 
 const SECONDS: f64 = 2.0;
 
-pub const SCENES: [&str; 8] = [
-    "falling_box",
-    "pachinko",
-    "bounce",
-    "stack",
-    "pyramid",
-    "dzhanibekov",
-    "rain",
-    "hulls",
-];
-
 /// Mean stage times per step and the number of steps.
 pub fn profile(name: &str) -> (StageTimes, usize) {
     let scene = scene::load(name).expect("built-in scene");

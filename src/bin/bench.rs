@@ -328,7 +328,10 @@ fn profile_table() {
         "| scene | steps | broad phase | narrow phase | islands | solve | integrate | checks | total |\n\
          |---|---|---|---|---|---|---|---|---|"
     );
-    for name in stage_profile::SCENES {
+    for name in rigid::scene::builtin_scenes()
+        .iter()
+        .map(|scene| scene.name)
+    {
         let (t, steps) = stage_profile::profile(name);
         let us = |s: f64| format!("{:.0}", s * 1e6);
         println!(

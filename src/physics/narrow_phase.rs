@@ -126,23 +126,24 @@ impl Found {
         // Where the search of `memory` starts (see `ManifoldMemory::find_from`).
         let mut cursor = 0;
         for pair in pairs {
+            let (a, b) = (&bodies[pair.a.index()], &bodies[pair.b.index()]);
+            if !a.is_awake() && !b.is_awake() {
+                continue;
+            }
             let reach = clusters.reach_of(pair, dt);
-            self.add_pair(bodies, pair, reach, memory, &mut cursor);
+            self.add_pair((a, b), pair, reach, memory, &mut cursor);
         }
     }
 
+    /// One pair of bodies of which at least one is awake.
     fn add_pair(
         &mut self,
-        bodies: &[RigidBody],
+        (a, b): (&RigidBody, &RigidBody),
         pair: &BodyPair,
         PairReach { radii, closable }: PairReach,
         memory: &ManifoldMemory,
         cursor: &mut usize,
     ) {
-        let (a, b) = (&bodies[pair.a.index()], &bodies[pair.b.index()]);
-        if !a.is_awake() && !b.is_awake() {
-            return;
-        }
         let margin = SPECULATIVE_DISTANCE + closable;
         let remembered = memory.find_from(pair.a, pair.b, cursor);
         if let Some(remembered) = remembered

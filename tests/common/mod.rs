@@ -4,6 +4,7 @@
 
 pub mod garble;
 pub mod tools;
+pub mod xorshift;
 
 use std::sync::Arc;
 
