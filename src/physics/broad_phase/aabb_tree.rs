@@ -3,6 +3,8 @@
 //! idle (static and sleeping) bodies here and queries it with the awake ones only, so a
 //! thousand resting bodies add nothing to a step in which they are not touched.
 
+use smallvec::{SmallVec, smallvec};
+
 use crate::physics::aabb::Aabb;
 
 /// Leaves hold up to this many boxes: below it, testing them all beats descending.
@@ -90,15 +92,17 @@ impl AabbTree {
         if self.nodes.is_empty() {
             return;
         }
-        let mut stack = vec![0usize];
+        // Median splits keep the tree about log2(n / LEAF_SIZE) deep and the stack no deeper
+        // than that plus one: inline, as every awake body queries once a step.
+        let mut stack: SmallVec<[u32; 64]> = smallvec![0];
         while let Some(index) = stack.pop() {
-            let node = &self.nodes[index];
+            let node = &self.nodes[index as usize];
             if !node.bounds.overlaps(query) {
                 continue;
             }
             if node.count == 0 {
-                stack.push(node.first as usize);
-                stack.push(node.first as usize + 1);
+                stack.push(node.first);
+                stack.push(node.first + 1);
                 continue;
             }
             let leaf = &self.items[node.first as usize..(node.first + node.count) as usize];
