@@ -6,6 +6,8 @@
 //! Normal convention: `normal` points from A towards B. Moving B by `depth * normal` (or A by
 //! the opposite) brings the shapes to touching.
 
+use std::cell::Cell;
+
 use glam::DVec3;
 use smallvec::{SmallVec, smallvec};
 
@@ -156,6 +158,36 @@ struct Face {
 struct Polytope {
     points: Vec<SupportPoint>,
     faces: Vec<Face>,
+}
+
+thread_local! {
+    /// Each thread's spare polytope lists: an EPA runs for every overlapping round pair in
+    /// every step, and would otherwise allocate both lists each time. A polytope takes them
+    /// when it is made and gives them back when it is dropped.
+    static SPARE_LISTS: Cell<(Vec<SupportPoint>, Vec<Face>)> = const {
+        Cell::new((Vec::new(), Vec::new()))
+    };
+}
+
+/// The spare lists, empty, with room for a typical expansion (growing by doubling
+/// reallocated each list four or five times per call).
+fn spare_lists() -> (Vec<SupportPoint>, Vec<Face>) {
+    let (mut points, mut faces) = SPARE_LISTS.take();
+    points.clear();
+    faces.clear();
+    points.reserve(EXPECTED_POINTS);
+    faces.reserve(2 * EXPECTED_POINTS);
+    (points, faces)
+}
+
+impl Drop for Polytope {
+    fn drop(&mut self) {
+        let lists = (
+            std::mem::take(&mut self.points),
+            std::mem::take(&mut self.faces),
+        );
+        SPARE_LISTS.set(lists);
+    }
 }
 
 /// A removed face's edge on the rim of the removed region, with the live face beyond it.
@@ -371,9 +403,7 @@ fn initial_polytope(
     b: &impl SupportMap,
     simplex: &Simplex,
 ) -> Result<Polytope, Vec<SupportPoint>> {
-    // Room for a typical expansion from the start: growing by doubling reallocated each
-    // list four or five times per call.
-    let mut points: Vec<SupportPoint> = Vec::with_capacity(EXPECTED_POINTS);
+    let (mut points, faces) = spare_lists();
     points.extend_from_slice(simplex.vertices());
     if points.len() == 4 && tetra_volume(&points).abs() <= volume_floor(&points) {
         points.truncate(3);
@@ -389,10 +419,7 @@ fn initial_polytope(
     if tetra_volume(&points) < 0.0 {
         points.swap(0, 1);
     }
-    let mut polytope = Polytope {
-        points,
-        faces: Vec::with_capacity(2 * EXPECTED_POINTS),
-    };
+    let mut polytope = Polytope { points, faces };
     // With positive volume (b−a)×(c−a)·(d−a) > 0, these windings face outward.
     for face in [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
         polytope.add_face(face);
