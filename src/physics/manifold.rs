@@ -68,13 +68,16 @@ pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Con
 
 /// `generate_contacts`, added to `points`.
 fn add_manifold_points(a: &PosedShape, b: &PosedShape, margin: f64, points: &mut ManifoldPoints) {
-    let mut contacts = if let Some(parts) = a.compound_parts() {
-        part_contacts(&parts, b, margin, true)
+    // Filled in place by the searches below: returned by value, the inline list was copied
+    // at every return on the way up.
+    let mut contacts = Contacts::new();
+    if let Some(parts) = a.compound_parts() {
+        part_contacts(&parts, b, margin, true, &mut contacts);
     } else if let Some(parts) = b.compound_parts() {
-        part_contacts(&parts, a, margin, false)
+        part_contacts(&parts, a, margin, false, &mut contacts);
     } else {
-        convex_contacts(a, b, margin)
-    };
+        convex_contacts(a, b, margin, &mut contacts);
+    }
     contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
     reduce_by_area(&mut contacts);
     // Copied over as a slice: extending would move them one by one.
@@ -82,7 +85,8 @@ fn add_manifold_points(a: &PosedShape, b: &PosedShape, margin: f64, points: &mut
 }
 
 /// The contacts of one pair before they are reduced: held inline up to a box face clipped
-/// by a box face, so that a pair allocates once, for the contacts it returns.
+/// by a box face, and filled in place by the searches, so that a pair neither allocates
+/// nor copies the list on its way back.
 type Contacts = SmallVec<[Contact; 8]>;
 
 /// Part k's feature ids are marked with k + 1 in bits 20 to 27, so parts never share ids.
@@ -91,8 +95,8 @@ fn part_contacts(
     other: &PosedShape,
     margin: f64,
     parts_are_a: bool,
-) -> Contacts {
-    let mut contacts = Contacts::new();
+    contacts: &mut Contacts,
+) {
     for (k, part) in parts.iter().enumerate() {
         let tag = ((k as u32 + 1) & 0xff) << 20;
         let mut found = ManifoldPoints::new();
@@ -110,10 +114,9 @@ fn part_contacts(
             c
         }));
     }
-    contacts
 }
 
-fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
+fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64, contacts: &mut Contacts) {
     // Both are checked before either is built: a box against a cylinder builds nothing.
     // The polyhedra are matched by reference where they are built: they are large, and
     // moving them out of the pair would copy them.
@@ -121,16 +124,16 @@ fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
         && b.shape.is_polyhedral()
         && let (Some(pa), Some(pb)) = (&Polyhedron::of(a), &Polyhedron::of(b))
     {
-        let mut contacts = polyhedron_contacts(pa, pb, margin);
+        polyhedron_contacts(pa, pb, margin, contacts);
         if contacts.is_empty() {
             // Clipping can cut away a whole incident face when a face axis was preferred
             // over a slightly better edge axis; the closest pair still makes one contact.
             contacts.extend(closest_contact(a, b, margin));
         }
-        return contacts;
+        return;
     }
     // Empty only when the closest pair is beyond the margin: no second search for it.
-    round_contacts(a, b, margin)
+    round_contacts(a, b, margin, contacts);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -394,15 +397,16 @@ impl Axis {
 /// choice does not flicker between nearly equal axes from one step to the next.
 const AXIS_PREFERENCE: f64 = 1e-3;
 
-fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64) -> Contacts {
+/// Adds to `contacts` (empty on entry).
+fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64, contacts: &mut Contacts) {
     let slop = AXIS_PREFERENCE * a.size().min(b.size());
     let face_a = best_face_axis(a, b, true);
     if face_a.separation() > margin {
-        return Contacts::new();
+        return;
     }
     let face_b = best_face_axis(b, a, false);
     if face_b.separation() > margin {
-        return Contacts::new();
+        return;
     }
     let mut best = if face_b.separation() > face_a.separation() + slop {
         face_b
@@ -413,7 +417,7 @@ fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64) -> Contacts 
     let floor = margin.min(best.separation() + slop);
     if let Some(edges) = best_edge_axis(a, b, floor) {
         if edges.separation() > margin {
-            return Contacts::new();
+            return;
         }
         if edges.separation() > best.separation() + slop {
             best = edges;
@@ -422,16 +426,16 @@ fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64) -> Contacts 
     match best {
         Axis::Face {
             of_a: true, face, ..
-        } => clip_contacts(a, face, b, true, margin),
+        } => clip_contacts(a, face, b, true, margin, contacts),
         Axis::Face {
             of_a: false, face, ..
-        } => clip_contacts(b, face, a, false, margin),
+        } => clip_contacts(b, face, a, false, margin, contacts),
         Axis::Edges {
             edge_a,
             edge_b,
             axis,
             separation,
-        } => Contacts::from_elem(edge_contact(a, edge_a, b, edge_b, axis, separation), 1),
+        } => contacts.push(edge_contact(a, edge_a, b, edge_b, axis, separation)),
     }
 }
 
@@ -687,7 +691,8 @@ fn clip_contacts(
     incident: &Polyhedron,
     reference_is_a: bool,
     margin: f64,
-) -> Contacts {
+    contacts: &mut Contacts,
+) {
     let ref_face = &reference.faces[face];
     let normal = ref_face.normal;
     let incident_face = incident.face_against(normal);
@@ -720,7 +725,6 @@ fn clip_contacts(
         std::mem::swap(&mut from, &mut to);
     }
     let sign = if reference_is_a { 1.0 } else { -1.0 };
-    let mut contacts = Contacts::new();
     for p in from.iter() {
         let separation = normal.dot(p.position) - ref_face.offset;
         if separation <= margin {
@@ -740,7 +744,6 @@ fn clip_contacts(
             });
         }
     }
-    contacts
 }
 
 /// Sutherland–Hodgman against one plane: keeps the part with `plane · x ≤ offset`, in `out`.
@@ -828,13 +831,13 @@ fn farthest_from(contacts: &[Contact], point: DVec3) -> usize {
 /// cylinder side) or standing on it (cylinder cap), extra points are tested.
 const FLAT_COSINE: f64 = 0.1;
 
-fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
+/// Adds to `extra` (empty on entry).
+fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64, extra: &mut Contacts) {
     let Some(main) = closest_contact(a, b, margin) else {
-        return Contacts::new();
+        return;
     };
     // Inline up to 8: the extra points of both shapes, or a cap's corners; more (a cap on a
     // box face has up to 12 corners) move it to the heap.
-    let mut extra = Contacts::new();
     for (k, point) in extra_points(a, main.normal).into_iter().enumerate() {
         extra.extend(point_contact(
             &point,
@@ -860,9 +863,9 @@ fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
     let size = a.shape.bounding_radius() + b.shape.bounding_radius();
     let deepest_allowed = main.separation - 1e-6 * size;
     let cap_of_a = (a, b, main.normal);
-    add_cap_contacts(cap_of_a, margin, deepest_allowed, true, &mut extra);
+    add_cap_contacts(cap_of_a, margin, deepest_allowed, true, extra);
     let cap_of_b = (b, a, -main.normal);
-    add_cap_contacts(cap_of_b, margin, deepest_allowed, false, &mut extra);
+    add_cap_contacts(cap_of_b, margin, deepest_allowed, false, extra);
     // A lying shape touches along a line or patch whose ends are the extra points, and the
     // closest pair is just one point of it; otherwise the closest pair is deeper and stays.
     let deepest_extra = extra
@@ -873,7 +876,6 @@ fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Contacts {
         extra.retain(|c| c.position.distance(main.position) > 1e-6 * size);
         extra.insert(0, main);
     }
-    extra
 }
 
 /// How far above the true gap a contact's separation may be, as a fraction of the pair's
