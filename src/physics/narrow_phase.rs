@@ -74,25 +74,36 @@ const PAIRS_PER_TASK: usize = 64;
 /// are generated. `clusters` holds what was measured of these pairs' bodies this step.
 /// Pairs are independent, so they are computed on all threads; the collected
 /// order, and so every later stage, is the same for any number of threads.
+///
+/// The manifolds replace those in `manifolds`, and what to remember replaces `memory`, whose
+/// old list is handed back in `spare` for the next step to fill: once grown, a step
+/// allocates none of these lists.
 pub fn find_manifolds(
     bodies: &[RigidBody],
     pairs: &[BodyPair],
     clusters: &Clusters,
     dt: f64,
-    memory: &ManifoldMemory,
-) -> (Vec<ContactManifold>, ManifoldMemory) {
+    memory: &mut ManifoldMemory,
+    spare: &mut Vec<RememberedManifold>,
+    manifolds: &mut Vec<ContactManifold>,
+) {
     let mut found = Found {
-        manifolds: Vec::with_capacity(pairs.len()),
-        remembered: Vec::with_capacity(pairs.len()),
+        manifolds: std::mem::take(manifolds),
+        remembered: std::mem::take(spare),
     };
+    found.manifolds.clear();
+    found.manifolds.reserve(pairs.len());
+    found.remembered.clear();
+    found.remembered.reserve(pairs.len());
+    let memory_read: &ManifoldMemory = memory;
     if rayon::current_num_threads() == 1 {
         // Handing the work to a pool of one thread only adds its wake-ups.
-        found.add_pairs(bodies, pairs, clusters, dt, memory);
+        found.add_pairs(bodies, pairs, clusters, dt, memory_read);
     } else {
         let parts: Vec<Found> = (pairs.par_chunks(PAIRS_PER_TASK))
             .map(|chunk| {
                 let mut part = Found::default();
-                part.add_pairs(bodies, chunk, clusters, dt, memory);
+                part.add_pairs(bodies, chunk, clusters, dt, memory_read);
                 part
             })
             .collect();
@@ -101,7 +112,8 @@ pub fn find_manifolds(
             found.remembered.append(&mut part.remembered);
         }
     }
-    (found.manifolds, ManifoldMemory::new(found.remembered))
+    *manifolds = found.manifolds;
+    *spare = memory.replace(found.remembered);
 }
 
 /// Manifolds found, in pair order, with what to remember of each.

@@ -32,7 +32,7 @@ use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::integrate::{self, Integrator};
 use crate::physics::islands::{self, IslandScratch, SleepSettings};
-use crate::physics::manifold_memory::ManifoldMemory;
+use crate::physics::manifold_memory::{ManifoldMemory, RememberedManifold};
 use crate::physics::narrow_phase;
 use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
 use crate::physics::soft_solver::{
@@ -77,6 +77,8 @@ pub struct World {
     manifolds: Vec<ContactManifold>,
     /// The last step's manifolds in their bodies' frames, carried while pairs barely move.
     manifold_memory: ManifoldMemory,
+    /// The list the next step's memory is built in (see `narrow_phase::find_manifolds`).
+    spare_remembered: Vec<RememberedManifold>,
     /// The bodies of this step's pairs, grouped by them (see `closing_speed`).
     clusters: Clusters,
     contact_cache: ContactCache,
@@ -88,6 +90,8 @@ pub struct World {
     /// The force list as the last step saw it: an edit wakes every body.
     forces_seen: Vec<EnvironmentForce>,
     awake: usize,
+    /// The awake list as the end-of-step checks walk it, kept so as not to allocate it.
+    awake_copy: Vec<u32>,
     /// Pairs the last forward step's broad phase handed to the narrow phase.
     pairs: usize,
     classic_report: ClassicReport,
@@ -168,6 +172,7 @@ impl World {
             woken_for_no_sleep: false,
             manifolds: Vec::new(),
             manifold_memory: ManifoldMemory::default(),
+            spare_remembered: Vec::new(),
             clusters: Clusters::default(),
             contact_cache: ContactCache::default(),
             solver_inputs: Vec::new(),
@@ -175,6 +180,7 @@ impl World {
             island_scratch: IslandScratch::default(),
             forces_seen: Vec::new(),
             awake: 0,
+            awake_copy: Vec::new(),
             pairs: 0,
             classic_report: ClassicReport::default(),
             stage_times: StageTimes::default(),
@@ -327,12 +333,14 @@ impl World {
             times.broad_phase = clock.lap();
             self.manifold_memory.forget(&touched);
             self.clusters.measure(&self.bodies, &pairs);
-            (self.manifolds, self.manifold_memory) = narrow_phase::find_manifolds(
+            narrow_phase::find_manifolds(
                 &self.bodies,
                 &pairs,
                 &self.clusters,
                 dt,
-                &self.manifold_memory,
+                &mut self.manifold_memory,
+                &mut self.spare_remembered,
+                &mut self.manifolds,
             );
             times.narrow_phase = clock.lap();
             self.update_sleep(dt);
@@ -357,8 +365,12 @@ impl World {
             }
         }
         times.solve = (clock.lap() - times.integrate).max(0.0);
-        let awake = self.awake_set.awake(&self.bodies).to_vec();
+        // Copied out (into a kept list) because isolating a body edits the awake set.
+        let mut awake = std::mem::take(&mut self.awake_copy);
+        awake.clear();
+        awake.extend_from_slice(self.awake_set.awake(&self.bodies));
         self.isolate_non_finite(&awake);
+        self.awake_copy = awake;
         times.checks += clock.lap();
         self.stage_times = times;
         self.time += dt;
