@@ -328,10 +328,7 @@ fn profile_table() {
         "| scene | steps | broad phase | narrow phase | islands | solve | integrate | checks | total |\n\
          |---|---|---|---|---|---|---|---|---|"
     );
-    for name in rigid::scene::builtin_scenes()
-        .iter()
-        .map(|scene| scene.name)
-    {
+    for name in rigid::scene::builtin_scene_names() {
         let (t, steps) = stage_profile::profile(name);
         let us = |s: f64| format!("{:.0}", s * 1e6);
         println!(

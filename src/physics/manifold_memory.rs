@@ -205,8 +205,7 @@ impl ManifoldMemory {
     /// Remembers `manifolds` instead (sorted by body pair, as for `new`) and hands back the
     /// list it held.
     pub fn replace(&mut self, manifolds: Vec<RememberedManifold>) -> Vec<RememberedManifold> {
-        debug_assert!(manifolds.is_sorted_by_key(|m| (m.body_a, m.body_b)));
-        std::mem::replace(&mut self.manifolds, manifolds)
+        std::mem::replace(self, ManifoldMemory::new(manifolds)).manifolds
     }
 
     /// `find_from` with a cursor of its own (for tests: the narrow phase keeps one).

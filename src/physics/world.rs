@@ -90,8 +90,6 @@ pub struct World {
     /// The force list as the last step saw it: an edit wakes every body.
     forces_seen: Vec<EnvironmentForce>,
     awake: usize,
-    /// The awake list as the end-of-step checks walk it, kept so as not to allocate it.
-    awake_copy: Vec<u32>,
     /// Pairs the last forward step's broad phase handed to the narrow phase.
     pairs: usize,
     classic_report: ClassicReport,
@@ -180,7 +178,6 @@ impl World {
             island_scratch: IslandScratch::default(),
             forces_seen: Vec::new(),
             awake: 0,
-            awake_copy: Vec::new(),
             pairs: 0,
             classic_report: ClassicReport::default(),
             stage_times: StageTimes::default(),
@@ -365,12 +362,13 @@ impl World {
             }
         }
         times.solve = (clock.lap() - times.integrate).max(0.0);
-        // Copied out (into a kept list) because isolating a body edits the awake set.
-        let mut awake = std::mem::take(&mut self.awake_copy);
-        awake.clear();
-        awake.extend_from_slice(self.awake_set.awake(&self.bodies));
-        self.isolate_non_finite(&awake);
-        self.awake_copy = awake;
+        // Only the broken ones are listed (none, and nothing allocated, in a healthy step):
+        // isolating a body edits the awake set.
+        let bodies = &self.bodies;
+        let broken: Vec<u32> = (self.awake_set.awake(bodies).iter().copied())
+            .filter(|&index| needs_isolating(&bodies[index as usize]))
+            .collect();
+        self.isolate_non_finite(&broken);
         times.checks += clock.lap();
         self.stage_times = times;
         self.time += dt;
@@ -567,12 +565,12 @@ impl World {
 
     /// Diagnostics stage: a body whose state is no longer finite is isolated before anything
     /// else can read it, so NaN never spreads to other bodies or to the world totals. Only
-    /// the listed bodies can have changed: the ones the user touched, or the awake ones.
+    /// the listed bodies can have changed: the ones the user touched, or the broken awake
+    /// ones.
     fn isolate_non_finite(&mut self, bodies: &[u32]) {
         for &index in bodies {
             let body = &mut self.bodies[index as usize];
-            let finite = body.is_finite() && body.force.is_finite() && body.torque.is_finite();
-            if body.motion.takes_part() && !finite {
+            if needs_isolating(body) {
                 body.motion = Motion::Isolated;
                 self.faults.push(Fault {
                     body: BodyId(index),
@@ -602,4 +600,11 @@ impl World {
         }
         totals
     }
+}
+
+/// A body that still takes part in the simulation with a state, force or torque that is no
+/// longer finite.
+fn needs_isolating(body: &RigidBody) -> bool {
+    let finite = body.is_finite() && body.force.is_finite() && body.torque.is_finite();
+    body.motion.takes_part() && !finite
 }

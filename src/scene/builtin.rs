@@ -43,6 +43,11 @@ pub fn builtin_scenes() -> &'static [BuiltinScene] {
     BUILTIN_SCENES
 }
 
+/// Their names, in menu order.
+pub fn builtin_scene_names() -> impl Iterator<Item = &'static str> {
+    BUILTIN_SCENES.iter().map(|scene| scene.name)
+}
+
 pub fn find_builtin(name: &str) -> Option<&'static BuiltinScene> {
     BUILTIN_SCENES.iter().find(|scene| scene.name == name)
 }

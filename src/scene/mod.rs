@@ -54,7 +54,7 @@ mod validate;
 
 use std::path::Path;
 
-pub use builtin::{BuiltinScene, builtin_scenes, find_builtin};
+pub use builtin::{BuiltinScene, builtin_scene_names, builtin_scenes, find_builtin};
 pub use error::SceneError;
 pub use file::{
     BodySpec, Camera, ForceSpec, PartSpec, Repeat, Rotation, Scene, SceneSettings, ShapeSpec,
@@ -85,7 +85,7 @@ pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
     if Path::new(name_or_path).exists() {
         return load_file(name_or_path);
     }
-    let names: Vec<&str> = builtin_scenes().iter().map(|scene| scene.name).collect();
+    let names: Vec<&str> = builtin_scene_names().collect();
     Err(SceneError::UnknownScene {
         name: name_or_path.to_owned(),
         available: names.join(", "),

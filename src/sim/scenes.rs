@@ -27,7 +27,7 @@ pub struct SceneSetup {
 
 /// The names of the built-in scenes, in the order the viewer lists them.
 pub fn scene_names() -> impl Iterator<Item = &'static str> {
-    scene::builtin_scenes().iter().map(|s| s.name)
+    scene::builtin_scene_names()
 }
 
 /// Builds a built-in scene by name, or a scene file by path; errors name the file, body and
