@@ -70,10 +70,13 @@ pub fn tangent_basis(n: DVec3) -> [DVec3; 2] {
 /// onto the disc of radius `limit` = μ times the normal impulse when it lies outside.
 #[inline(always)]
 pub fn clamp_to_friction_disc(tangent: [f64; 2], limit: f64) -> [f64; 2] {
-    let magnitude = (tangent[0] * tangent[0] + tangent[1] * tangent[1]).sqrt();
-    if magnitude <= limit {
+    // Compared squared, so that a sticking contact, inside the disc, takes no square root.
+    // The limit is never negative.
+    let squared = tangent[0] * tangent[0] + tangent[1] * tangent[1];
+    if squared <= limit * limit {
         return tangent;
     }
+    let magnitude = squared.sqrt();
     let scale = if magnitude > 0.0 {
         limit / magnitude
     } else {

@@ -102,27 +102,34 @@ struct Side {
 /// `arms[c]` is component c of direction k's arm), so that the three directions are worked
 /// on at once: the same operations glam's `cross`, matrix product and `dot` would do for
 /// each, in the same order.
-struct SideGeometry {
+struct SideGeometry<V> {
     lever: DVec3,
-    arms: [F64x4; 3],
-    spins: [F64x4; 3],
+    arms: [V; 3],
+    spins: [V; 3],
     anchor: DVec3,
 }
 
-impl SideGeometry {
+impl<V: LaneVector> SideGeometry<V> {
     #[inline(always)]
-    fn new(body: &RigidBody, slot: u32, lever: DVec3, across: &[F64x4; 3]) -> Self {
+    fn new<L: Lanes<Vector = V>>(
+        l: L,
+        body: &RigidBody,
+        slot: u32,
+        lever: DVec3,
+        across: &[F64x4; 3],
+    ) -> Self {
         if !moves(slot) {
             // Nothing turns it: only the anchor, the contact point in world axes, is read.
+            let zero = l.load(F64x4::ZERO);
             return SideGeometry {
                 lever,
-                arms: [F64x4::ZERO; 3],
-                spins: [F64x4::ZERO; 3],
+                arms: [zero; 3],
+                spins: [zero; 3],
                 anchor: body.position + lever,
             };
         }
         let r = lever;
-        let [d0, d1, d2] = [across[0], across[1], across[2]];
+        let [d0, d1, d2] = load3(l, across);
         // r × d: (r.y d.z − d.y r.z, r.z d.x − d.z r.x, r.x d.y − d.x r.y).
         let arms = [
             d2 * r.y - d1 * r.z,
@@ -147,14 +154,14 @@ impl SideGeometry {
 
     /// arm_k · spin_k for each direction k, in lane k.
     #[inline(always)]
-    fn arm_dot_spin(&self) -> F64x4 {
+    fn arm_dot_spin(&self) -> V {
         let (arms, spins) = (&self.arms, &self.spins);
         arms[0] * spins[0] + arms[1] * spins[1] + arms[2] * spins[2]
     }
 
     /// The normal's arm · spin_k for each direction k, in lane k.
     #[inline(always)]
-    fn normal_arm_dot_spin(&self) -> F64x4 {
+    fn normal_arm_dot_spin(&self) -> V {
         let (arms, spins) = (&self.arms, &self.spins);
         spins[0] * arms[0].lane(0) + spins[1] * arms[1].lane(0) + spins[2] * arms[2].lane(0)
     }
@@ -426,28 +433,30 @@ pub fn step(
     scratch: &mut SoftScratch,
 ) -> SoftStep {
     #[cfg(target_arch = "x86_64")]
-    if Avx2::detect().is_some() {
-        // SAFETY: the processor has AVX2, as `detect` found.
-        return unsafe { step_avx2(bodies, awake, contacts, ctx, scratch) };
+    if let Some(avx) = Avx2::detect() {
+        // SAFETY: the processor has AVX2, as `avx` proves.
+        return unsafe { step_avx2(avx, bodies, awake, contacts, ctx, scratch) };
     }
-    step_inline(bodies, awake, contacts, ctx, scratch)
+    step_inline(Portable, bodies, awake, contacts, ctx, scratch)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn step_avx2(
+    avx: Avx2,
     bodies: &mut [RigidBody],
     awake: &[u32],
     contacts: &[ContactInput],
     ctx: &StepContext,
     scratch: &mut SoftScratch,
 ) -> SoftStep {
-    step_inline(bodies, awake, contacts, ctx, scratch)
+    step_inline(avx, bodies, awake, contacts, ctx, scratch)
 }
 
 /// The body of `step`, compiled into each of its variants.
 #[inline(always)]
-fn step_inline(
+fn step_inline<L: Lanes>(
+    l: L,
     bodies: &mut [RigidBody],
     awake: &[u32],
     contacts: &[ContactInput],
@@ -477,11 +486,11 @@ fn step_inline(
         if contact.normal != basis.0 {
             basis = (contact.normal, tangent_basis(contact.normal));
         }
-        *constraint = prepare(bodies, slots, contact, basis.1, motions, ctx.dt);
+        *constraint = prepare(l, bodies, slots, contact, basis.1, motions, ctx.dt);
     }
     let shared = SharedBodies::new(&mut slots.slots);
     for constraint in constraints.iter() {
-        constraint.add_to_warm_start(Portable, &shared);
+        constraint.add_to_warm_start(l, &shared);
     }
     let substeps = ctx.settings.substeps.max(1);
     let h = ctx.dt / substeps as f64;
@@ -522,10 +531,10 @@ fn step_inline(
         }
         integrate_seconds += clock.lap();
         slots.refresh_poses(bodies);
-        let relax = Pass::Relax {
-            warm_start_next: substep + 1 < substeps,
-        };
-        for_each_contact(&mut slots.slots, constraints, colors, relax, h);
+        for_each_contact(&mut slots.slots, constraints, colors, Pass::Relax, h);
+        if substep + 1 < substeps {
+            slots.gather_warm_start();
+        }
         slots.scatter(bodies);
     }
     // One pass, in contact order rather than colour order, on one thread. A body bouncing
@@ -611,7 +620,8 @@ fn impact_speed(speed: f64, acceleration: f64, gap: f64) -> f64 {
 
 /// The constraint of one contact point, whose normal has the tangents `[t1, t2]`.
 #[inline(always)]
-fn prepare(
+fn prepare<L: Lanes>(
+    l: L,
     bodies: &[RigidBody],
     slots: &SolverBodies,
     contact: &ContactInput,
@@ -630,18 +640,18 @@ fn prepare(
     let acceleration = |slot: u32| motions[slot as usize].acceleration;
     let approach_acceleration = normal.dot(acceleration(slot_b) - acceleration(slot_a));
     let across = F64x4::transpose(directions);
-    let side_a = SideGeometry::new(a, slot_a, r_a, &across);
-    let side_b = SideGeometry::new(b, slot_b, r_b, &across);
+    let side_a = SideGeometry::new(l, a, slot_a, r_a, &across);
+    let side_b = SideGeometry::new(l, b, slot_b, r_b, &across);
     let separation_offset = contact.separation - normal.dot(r_b - r_a + b.position - a.position);
     let (anchor_a, anchor_b) = (
         side_a.anchor_at(slot_a, a.position, a.orientation),
         side_b.anchor_at(slot_b, b.position, b.orientation),
     );
     let inv_masses = inv_mass(a, slot_a) + inv_mass(b, slot_b);
-    let [normal_mass, tangent_1, tangent_2] = effective_masses(&side_a, &side_b, inv_masses);
+    let [normal_mass, tangent_1, tangent_2] = effective_masses(l, &side_a, &side_b, inv_masses);
     PointConstraint {
         separation: normal.dot(anchor_b - anchor_a) + separation_offset,
-        normal_to_tangent: normal_to_tangent(&side_a, &side_b, inv_masses, &across),
+        normal_to_tangent: normal_to_tangent(l, &side_a, &side_b, inv_masses, &across),
         a: side_a.into_lanes(),
         b: side_b.into_lanes(),
         directions: F64x4::from_vec3s(directions),
@@ -665,8 +675,13 @@ fn prepare(
 /// sides hold (`inv_masses` is 1/mA + 1/mB). A body that does not move in this step counts
 /// as immovable, as the impulses treat it.
 #[inline(always)]
-fn effective_masses(a: &SideGeometry, b: &SideGeometry, inv_masses: f64) -> [f64; 3] {
-    let inverse = F64x4::splat(inv_masses) + a.arm_dot_spin() + b.arm_dot_spin();
+fn effective_masses<L: Lanes>(
+    l: L,
+    a: &SideGeometry<L::Vector>,
+    b: &SideGeometry<L::Vector>,
+    inv_masses: f64,
+) -> [f64; 3] {
+    let inverse = (l.load(F64x4::splat(inv_masses)) + a.arm_dot_spin() + b.arm_dot_spin()).store();
     let mass = |k: usize| {
         let inverse = inverse.lane(k);
         if inverse > 0.0 { 1.0 / inverse } else { 0.0 }
@@ -677,16 +692,19 @@ fn effective_masses(a: &SideGeometry, b: &SideGeometry, inv_masses: f64) -> [f64
 /// `PointConstraint::normal_to_tangent`: the relative speed along each tangent that a unit
 /// normal impulse adds.
 #[inline(always)]
-fn normal_to_tangent(
-    a: &SideGeometry,
-    b: &SideGeometry,
+fn normal_to_tangent<L: Lanes>(
+    l: L,
+    a: &SideGeometry<L::Vector>,
+    b: &SideGeometry<L::Vector>,
     inv_masses: f64,
     across: &[F64x4; 3],
 ) -> [f64; 2] {
     // d_k · n for each direction k, then the arms' share.
     let n = [across[0].lane(0), across[1].lane(0), across[2].lane(0)];
-    let along_normal = across[0] * n[0] + across[1] * n[1] + across[2] * n[2];
-    let coupling = along_normal * inv_masses + a.normal_arm_dot_spin() + b.normal_arm_dot_spin();
+    let [x, y, z] = load3(l, across);
+    let along_normal = x * n[0] + y * n[1] + z * n[2];
+    let coupling =
+        (along_normal * inv_masses + a.normal_arm_dot_spin() + b.normal_arm_dot_spin()).store();
     [coupling.lane(1), coupling.lane(2)]
 }
 
@@ -696,10 +714,10 @@ const PARALLEL_MIN_CONTACTS: usize = 128;
 /// One pass of a substep over the contacts.
 ///
 /// Each substep starts by applying the impulses the contacts hold (the warm start). That
-/// needs no pass of its own: a contact's impulse is final once the relax pass has solved
-/// it, so the relax pass adds it to its bodies' warm start for the next substep
-/// (`SolverBodies::warm_start`), and `step` does the same for the first from the
-/// impulses remembered from the last step. A pass over the contacts streams them all
+/// needs no pass of its own: once the relax pass has solved every contact, what each body's
+/// momenta gained since the warm start is the sum of its contacts' final impulses, the next
+/// substep's warm start (`SolverBodies::gather_warm_start`); `step` gathers the first from
+/// the impulses remembered from the last step. A pass over the contacts streams them all
 /// through memory; a pass over the bodies is far smaller.
 #[derive(Clone, Copy)]
 enum Pass {
@@ -709,9 +727,8 @@ enum Pass {
         max_push_out: f64,
     },
     /// Measures the separations at the poses the substep moved to, then solves without
-    /// bias, removing the velocity the bias added; and when another substep follows,
-    /// gathers each contact's impulse for its warm start.
-    Relax { warm_start_next: bool },
+    /// bias, removing the velocity the bias added.
+    Relax,
 }
 
 /// Runs `pass` on every contact, colour by colour (see `contact_colors`). A colour large
@@ -782,13 +799,10 @@ fn run_pass_inline<L: Lanes>(
                 solve(l, bodies, c, h, Some((softness, max_push_out)));
             }
         }
-        Pass::Relax { warm_start_next } => {
+        Pass::Relax => {
             for c in contacts {
                 c.separation = current_separation(l, bodies, c);
                 solve(l, bodies, c, h, None);
-                if warm_start_next {
-                    c.add_to_warm_start(l, bodies);
-                }
             }
         }
     }
@@ -958,6 +972,10 @@ mod tests {
     /// Two turning, moving boxes on a fixed one, with contacts at skew points and
     /// remembered impulses, prepared as a step would.
     fn scene() -> (Vec<RigidBody>, SolverBodies, Vec<PointConstraint>) {
+        scene_prepared_with(Portable)
+    }
+
+    fn scene_prepared_with<L: Lanes>(l: L) -> (Vec<RigidBody>, SolverBodies, Vec<PointConstraint>) {
         let cuboid = |h: f64| Shape::cuboid(DVec3::new(h, 0.7 * h, 1.3 * h));
         let descs = [
             BodyDesc::fixed(cuboid(5.0)).at(DVec3::new(0.0, -3.5, 0.0)),
@@ -994,6 +1012,7 @@ mod tests {
         let constraints = (contacts.iter())
             .map(|c| {
                 prepare(
+                    l,
                     &bodies,
                     &slots,
                     c,
@@ -1006,6 +1025,70 @@ mod tests {
         (bodies, slots, constraints)
     }
 
+    /// The warm start gathered from the change in momenta is what adding up every contact's
+    /// final impulse gives (the sum the relax pass used to build contact by contact).
+    #[test]
+    fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
+        let (_, mut slots, mut constraints) = scene();
+        let h = 1.0 / 480.0;
+        let shared = SharedBodies::new(&mut slots.slots);
+        for c in &constraints {
+            c.add_to_warm_start(Portable, &shared);
+        }
+        slots.warm_start();
+        let biased = Pass::Biased {
+            softness: Softness::new(60.0, 10.0, h),
+            max_push_out: 3.0,
+        };
+        for pass in [biased, Pass::Relax] {
+            run_pass_inline(
+                Portable,
+                pass,
+                &SharedBodies::new(&mut slots.slots),
+                &mut constraints,
+                h,
+            );
+        }
+        slots.gather_warm_start();
+        let mut summed = slots.clone();
+        for slot in &mut summed.slots {
+            slot.warm_start = [F64x4::ZERO; 2];
+        }
+        let shared = SharedBodies::new(&mut summed.slots);
+        for c in &constraints {
+            c.add_to_warm_start(Portable, &shared);
+        }
+        let mut pushed = 0.0;
+        for (gathered, summed) in slots.slots[1..].iter().zip(&summed.slots[1..]) {
+            for k in 0..2 {
+                let (x, y) = (
+                    gathered.warm_start[k].to_vec3(),
+                    summed.warm_start[k].to_vec3(),
+                );
+                // Round-off of two sums of a few terms of order 10.
+                assert!(
+                    x.distance(y) < 1e-12 * (1.0 + y.length()),
+                    "{x} against {y}"
+                );
+                pushed += y.length();
+            }
+        }
+        assert!(pushed > 1.0, "the contacts push: {pushed}");
+    }
+
+    #[test]
+    fn packed_and_unpacked_preparation_compute_the_same_bits() {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx) = Avx2::detect() {
+            let (_, _, portable) = scene();
+            let (_, _, packed) = scene_prepared_with(avx);
+            for (x, y) in portable.iter().zip(&packed) {
+                // Debug prints each number exactly (shortest round trip), signed zeros too.
+                assert_eq!(format!("{x:?}"), format!("{y:?}"));
+            }
+        }
+    }
+
     #[test]
     fn packed_and_unpacked_passes_compute_the_same_bits() {
         #[cfg(target_arch = "x86_64")]
@@ -1016,9 +1099,7 @@ mod tests {
                     softness,
                     max_push_out: 3.0,
                 },
-                Pass::Relax {
-                    warm_start_next: true,
-                },
+                Pass::Relax,
             ];
             let (_, mut slots_inline, mut inline) = scene();
             let (_, mut slots_packed, mut packed) = scene();
@@ -1045,7 +1126,6 @@ mod tests {
             for (x, y) in slots_inline.slots.iter().zip(&slots_packed.slots) {
                 assert_eq!(x.linear_momentum, y.linear_momentum);
                 assert_eq!(x.angular_momentum, y.angular_momentum);
-                assert_eq!(x.warm_start, y.warm_start);
             }
             for (x, y) in inline.iter().zip(&packed) {
                 assert_eq!((x.impulse, x.separation), (y.impulse, y.separation));
