@@ -284,6 +284,13 @@ fn check_range(
     Ok(())
 }
 
+/// k·I: the same inertia about every axis.
+#[inline(always)]
+pub fn is_isotropic(m: DMat3) -> bool {
+    let k = m.x_axis.x;
+    m == DMat3::from_diagonal(DVec3::splat(k))
+}
+
 impl RigidBody {
     /// Builds a body from a validated description.
     pub fn from_desc(desc: &BodyDesc) -> Result<RigidBody, BodyError> {
@@ -359,10 +366,16 @@ impl RigidBody {
         self.orientation * self.inv_inertia_local.inverse() * self.orientation.transpose()
     }
 
+    /// I_world⁻¹ = R I⁻¹ Rᵀ. An isotropic inertia (spheres, cubes) is the same in every
+    /// frame, and is kept as it is: exact, where the two matrix products would add round-off
+    /// (and cost, at every substep of every turning body).
     #[inline(always)]
     pub fn refresh_world_inertia(&mut self) {
-        self.inv_inertia_world =
-            self.orientation * self.inv_inertia_local * self.orientation.transpose();
+        self.inv_inertia_world = if is_isotropic(self.inv_inertia_local) {
+            self.inv_inertia_local
+        } else {
+            self.orientation * self.inv_inertia_local * self.orientation.transpose()
+        };
     }
 
     /// v = L / m

@@ -15,7 +15,7 @@
 use glam::{DMat3, DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
-use crate::physics::body::RigidBody;
+use crate::physics::body::{RigidBody, is_isotropic};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Integrator {
@@ -162,13 +162,6 @@ fn rotate_midpoint(body: &RigidBody, dt: f64) -> DMat3 {
         }
     }
     DMat3::from_quat(rotate_quat(current, omega, dt))
-}
-
-/// k·I: the same inertia about every axis.
-#[inline(always)]
-fn is_isotropic(m: DMat3) -> bool {
-    let k = m.x_axis.x;
-    m == DMat3::from_diagonal(DVec3::splat(k))
 }
 
 /// The report's * operator: skew(v) w = v × w.

@@ -474,7 +474,7 @@ fn step_inline<L: Lanes>(
     let contact_slots = contacts
         .iter()
         .map(|c| [slots.slot_of(c.a), slots.slot_of(c.b)]);
-    colors.assign(contact_slots, slots.slots.len(), FIXED_SLOT);
+    colors.assign(contact_slots, slots.count(), FIXED_SLOT);
     SlotMotion::gather(motions, bodies, awake, ctx.forces);
     // Written in place: collecting would build each (large) constraint aside and copy it.
     constraints.resize(colors.order.len(), PointConstraint::default());
