@@ -89,6 +89,12 @@ struct Side {
     /// The lever arm r (contact point − centre of mass) in world axes, fixed for the step:
     /// an impulse J there turns the body by r × J, and the point moves at v + ω × r.
     lever: F64x4,
+    /// I⁻¹ (r × d) for the normal and the tangents d, transposed like
+    /// `PointConstraint::across` (zero where the body does not move). The point's speed
+    /// along d from the turning, (r × d) · ω with ω = I⁻¹ A, is this · A (I⁻¹ is
+    /// symmetric): one product with the momentum instead of deriving ω and crossing it with r,
+    /// which made the longest chain of dependent operations in a pass longer.
+    spins: [F64x4; 3],
     /// The lever arm in body axes, or for a body that does not move in this step, the
     /// contact point in world axes: the separation follows the bodies as they turn.
     anchor: F64x4,
@@ -180,20 +186,24 @@ impl<V: LaneVector> SideGeometry<V> {
     fn into_lanes(self) -> Side {
         Side {
             lever: F64x4::from_vec3(self.lever),
+            spins: [
+                self.spins[0].store(),
+                self.spins[1].store(),
+                self.spins[2].store(),
+            ],
             anchor: F64x4::from_vec3(self.anchor),
         }
     }
 }
 
 impl Side {
-    /// Velocity of the body's material point at the contact, v + ω × r, both derived from
-    /// the momenta (ω = I⁻¹ A with the step's world inertia).
+    /// The speeds along the three directions (in lanes) that the body's turning gives its
+    /// material point at the contact (see `spins`).
     #[inline(always)]
-    fn point_velocity<L: Lanes>(&self, l: L, body: &SolverBody) -> L::Vector {
-        let [p, a] = [body.linear_momentum, body.angular_momentum];
-        let [x, y, z] = load3(l, &body.inv_inertia);
-        let spin = x * a.lane(0) + y * a.lane(1) + z * a.lane(2);
-        l.load(p) * body.inv_mass + spin.cross(l.load(self.lever))
+    fn turning_speeds<L: Lanes>(&self, l: L, body: &SolverBody) -> L::Vector {
+        let a = body.angular_momentum;
+        let [x, y, z] = load3(l, &self.spins);
+        x * a.lane(0) + y * a.lane(1) + z * a.lane(2)
     }
 
     #[inline(always)]
@@ -238,6 +248,9 @@ fn moves(slot: u32) -> bool {
 struct PointConstraint {
     /// The solver slots of a and b.
     slots: [u32; 2],
+    /// Whether the next contact in the pass shares no moving body with this one, so that
+    /// the two may be solved side by side (`solve_two`).
+    pairs_with_next: bool,
     impulse: WarmImpulse,
     /// The separation at the bodies' current poses. Poses only change between a substep's
     /// biased pass and its relax pass, so the relax pass measures it and the next
@@ -287,10 +300,12 @@ impl PointConstraint {
     #[inline(always)]
     fn speeds<L: Lanes>(&self, l: L, bodies: &SharedBodies) -> [f64; 3] {
         let [slot_a, slot_b] = self.slots;
-        let relative = self.b.point_velocity(l, bodies.get(slot_b))
-            - self.a.point_velocity(l, bodies.get(slot_a));
+        let (a, b) = (bodies.get(slot_a), bodies.get(slot_b));
+        let relative =
+            l.load(b.linear_momentum) * b.inv_mass - l.load(a.linear_momentum) * a.inv_mass;
         let [x, y, z] = load3(l, &self.across);
-        let speeds = x * relative.lane(0) + y * relative.lane(1) + z * relative.lane(2);
+        let sliding = x * relative.lane(0) + y * relative.lane(1) + z * relative.lane(2);
+        let speeds = sliding + (self.b.turning_speeds(l, b) - self.a.turning_speeds(l, a));
         [speeds.lane(0), speeds.lane(1), speeds.lane(2)]
     }
 
@@ -488,6 +503,7 @@ fn step_inline<L: Lanes>(
         }
         *constraint = prepare(l, bodies, slots, contact, basis.1, motions, ctx.dt);
     }
+    mark_pairs(constraints);
     let shared = SharedBodies::new(&mut slots.slots);
     for constraint in constraints.iter() {
         constraint.add_to_warm_start(l, &shared);
@@ -650,6 +666,7 @@ fn prepare<L: Lanes>(
     let inv_masses = inv_mass(a, slot_a) + inv_mass(b, slot_b);
     let [normal_mass, tangent_1, tangent_2] = effective_masses(l, &side_a, &side_b, inv_masses);
     PointConstraint {
+        pairs_with_next: false,
         separation: normal.dot(anchor_b - anchor_a) + separation_offset,
         normal_to_tangent: normal_to_tangent(l, &side_a, &side_b, inv_masses, &across),
         a: side_a.into_lanes(),
@@ -790,22 +807,70 @@ fn run_pass_inline<L: Lanes>(
 ) {
     // Plain loops: an iterator adaptor's closure may be left out of line, and would then be
     // compiled without the variant's instructions.
-    match pass {
+    let bias = match pass {
         Pass::Biased {
             softness,
             max_push_out,
-        } => {
-            for c in contacts {
-                solve(l, bodies, c, h, Some((softness, max_push_out)));
+        } => Some((softness, max_push_out)),
+        Pass::Relax => None,
+    };
+    let relax = bias.is_none();
+    let mut k = 0;
+    while k < contacts.len() {
+        let rest = &mut contacts[k..];
+        if let [first, second, ..] = rest
+            && first.pairs_with_next
+        {
+            if relax {
+                first.separation = current_separation(l, bodies, first);
+                second.separation = current_separation(l, bodies, second);
             }
-        }
-        Pass::Relax => {
-            for c in contacts {
-                c.separation = current_separation(l, bodies, c);
-                solve(l, bodies, c, h, None);
+            solve_two(l, bodies, [first, second], h, bias);
+            k += 2;
+        } else {
+            let first = &mut rest[0];
+            if relax {
+                first.separation = current_separation(l, bodies, first);
             }
+            solve(l, bodies, first, h, bias);
+            k += 1;
         }
     }
+}
+
+/// Sets `pairs_with_next` on contacts in pass order.
+fn mark_pairs(constraints: &mut [PointConstraint]) {
+    for k in 1..constraints.len() {
+        let independent = independent(&constraints[k - 1], &constraints[k]);
+        constraints[k - 1].pairs_with_next = independent;
+    }
+}
+
+/// Whether two contacts share no moving body, so that either may be solved first.
+#[inline(always)]
+fn independent(x: &PointConstraint, y: &PointConstraint) -> bool {
+    x.slots
+        .iter()
+        .all(|&slot| !moves(slot) || !y.slots.contains(&slot))
+}
+
+/// `solve` on two independent contacts, step by step side by side, so that the processor
+/// works on both chains of dependent operations at once.
+#[inline(always)]
+fn solve_two<L: Lanes>(
+    l: L,
+    bodies: &SharedBodies,
+    [x, y]: [&mut PointConstraint; 2],
+    h: f64,
+    bias: Option<(Softness, f64)>,
+) {
+    let (speeds_x, speeds_y) = (x.speeds(l, bodies), y.speeds(l, bodies));
+    let normal_x = solve_normal(x, speeds_x[0], h, bias);
+    let normal_y = solve_normal(y, speeds_y[0], h, bias);
+    let friction_x = solve_friction(x, tangent_speeds(x, speeds_x, normal_x));
+    let friction_y = solve_friction(y, tangent_speeds(y, speeds_y, normal_y));
+    x.apply(l, bodies, [normal_x, friction_x[0], friction_x[1]]);
+    y.apply(l, bodies, [normal_y, friction_y[0], friction_y[1]]);
 }
 
 /// The fastest the pair can be closing when it meets in this step with no other contact
@@ -842,18 +907,23 @@ fn solve<L: Lanes>(
 ) {
     let speeds = c.speeds(l, bodies);
     let normal = solve_normal(c, speeds[0], h, bias);
+    let [t1, t2] = solve_friction(c, tangent_speeds(c, speeds, normal));
+    c.apply(l, bodies, [normal, t1, t2]);
+}
+
+/// The speeds along the tangents once the normal impulse `normal` is added.
+#[inline(always)]
+fn tangent_speeds(c: &PointConstraint, speeds: [f64; 3], normal: f64) -> [f64; 2] {
     // Skipped when no normal impulse is added: on an absurd contact (a body flung 1e298 m
     // away) the coupling overflows, and 0 · ∞ would poison the friction of the other body.
-    let tangent_speeds = if normal == 0.0 {
+    if normal == 0.0 {
         [speeds[1], speeds[2]]
     } else {
         [
             speeds[1] + c.normal_to_tangent[0] * normal,
             speeds[2] + c.normal_to_tangent[1] * normal,
         ]
-    };
-    let [t1, t2] = solve_friction(c, tangent_speeds);
-    c.apply(l, bodies, [normal, t1, t2]);
+    }
 }
 
 /// The normal impulse this pass adds, at the relative normal speed `normal_speed`.
@@ -1006,10 +1076,16 @@ mod tests {
                 tangent: [0.1 * k, -0.05],
             },
         };
-        let contacts = [contact(0, 1, 1.0), contact(0, 1, 2.0), contact(1, 2, 3.0)];
+        // The first two share no moving body: a pass solves them side by side.
+        let contacts = [
+            contact(0, 1, 1.0),
+            contact(0, 2, 4.0),
+            contact(0, 1, 2.0),
+            contact(1, 2, 3.0),
+        ];
         let mut motions = Vec::new();
         SlotMotion::gather(&mut motions, &bodies, &[1, 2], &[]);
-        let constraints = (contacts.iter())
+        let mut constraints = (contacts.iter())
             .map(|c| {
                 prepare(
                     l,
@@ -1021,7 +1097,9 @@ mod tests {
                     1.0 / 60.0,
                 )
             })
-            .collect();
+            .collect::<Vec<_>>();
+        mark_pairs(&mut constraints);
+        assert!(constraints[0].pairs_with_next && !constraints[2].pairs_with_next);
         (bodies, slots, constraints)
     }
 

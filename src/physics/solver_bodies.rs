@@ -24,8 +24,6 @@ use crate::physics::lanes::{F64x4, LaneVector, Lanes};
 pub struct SolverBody {
     pub linear_momentum: F64x4,
     pub angular_momentum: F64x4,
-    /// The world inverse inertia at step start, as the contacts' effective masses have it.
-    pub inv_inertia: [F64x4; 3],
     pub inv_mass: f64,
     pub position: F64x4,
     pub orientation: [F64x4; 3],
@@ -42,7 +40,6 @@ pub const FIXED_SLOT: u32 = 0;
 const FIXED: SolverBody = SolverBody {
     linear_momentum: F64x4::ZERO,
     angular_momentum: F64x4::ZERO,
-    inv_inertia: [F64x4::ZERO; 3],
     inv_mass: 0.0,
     position: F64x4::ZERO,
     orientation: [F64x4::ZERO; 3],
@@ -158,7 +155,6 @@ fn gathered(body: &RigidBody) -> SolverBody {
     SolverBody {
         linear_momentum: F64x4::from_vec3(body.linear_momentum),
         angular_momentum: F64x4::from_vec3(body.angular_momentum),
-        inv_inertia: columns(&body.inv_inertia_world),
         inv_mass: body.inv_mass,
         position: F64x4::from_vec3(body.position),
         orientation: columns(&body.orientation),
