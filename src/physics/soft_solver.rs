@@ -523,35 +523,26 @@ fn step_inline<L: Lanes>(
             .map(|&i| (bodies[i as usize].force, bodies[i as usize].torque)),
     );
     let mut integrate_seconds = 0.0;
+    let biased = Pass::Biased {
+        softness,
+        max_push_out: ctx.settings.max_push_out,
+    };
     for substep in 0..substeps {
         let mut clock = Stopwatch::start(ctx.timed);
-        for (&index, &(force, torque)) in awake.iter().zip(user_forces.iter()) {
-            let body = &mut bodies[index as usize];
-            body.force = force;
-            body.torque = torque;
+        slots.kick_and_warm_start(bodies, |k, body| {
+            (body.force, body.torque) = user_forces[k];
             forces::apply_environment(ctx.forces, body);
             integrate::integrate_momenta(body, h);
-        }
+        });
         integrate_seconds += clock.lap();
-        slots.refresh_momenta(bodies);
-        let biased = Pass::Biased {
-            softness,
-            max_push_out: ctx.settings.max_push_out,
-        };
-        slots.warm_start();
         for_each_contact(&mut slots.slots, constraints, colors, biased, h);
-        slots.scatter(bodies);
         clock.lap();
-        for &index in awake {
-            integrate::integrate_pose(&mut bodies[index as usize], h, ctx.integrator);
-        }
+        slots.drift(bodies, |body| {
+            integrate::integrate_pose(body, h, ctx.integrator)
+        });
         integrate_seconds += clock.lap();
-        slots.refresh_poses(bodies);
         for_each_contact(&mut slots.slots, constraints, colors, Pass::Relax, h);
-        if substep + 1 < substeps {
-            slots.gather_warm_start();
-        }
-        slots.scatter(bodies);
+        slots.end_substep(bodies, substep + 1 < substeps);
     }
     // One pass, in contact order rather than colour order, on one thread. A body bouncing
     // off two things in one step gets both rebounds one after the other, and the second
@@ -733,7 +724,7 @@ const PARALLEL_MIN_CONTACTS: usize = 128;
 /// Each substep starts by applying the impulses the contacts hold (the warm start). That
 /// needs no pass of its own: once the relax pass has solved every contact, what each body's
 /// momenta gained since the warm start is the sum of its contacts' final impulses, the next
-/// substep's warm start (`SolverBodies::gather_warm_start`); `step` gathers the first from
+/// substep's warm start (`SolverBodies::end_substep`); `step` gathers the first from
 /// the impulses remembered from the last step. A pass over the contacts streams them all
 /// through memory; a pass over the bodies is far smaller.
 #[derive(Clone, Copy)]
@@ -1107,13 +1098,13 @@ mod tests {
     /// final impulse gives (the sum the relax pass used to build contact by contact).
     #[test]
     fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
-        let (_, mut slots, mut constraints) = scene();
+        let (mut bodies, mut slots, mut constraints) = scene();
         let h = 1.0 / 480.0;
         let shared = SharedBodies::new(&mut slots.slots);
         for c in &constraints {
             c.add_to_warm_start(Portable, &shared);
         }
-        slots.warm_start();
+        slots.kick_and_warm_start(&mut bodies, |_, _| {});
         let biased = Pass::Biased {
             softness: Softness::new(60.0, 10.0, h),
             max_push_out: 3.0,
@@ -1127,7 +1118,7 @@ mod tests {
                 h,
             );
         }
-        slots.gather_warm_start();
+        slots.end_substep(&mut bodies, true);
         let mut summed = slots.clone();
         for slot in &mut summed.slots {
             slot.warm_start = [F64x4::ZERO; 2];
