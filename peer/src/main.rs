@@ -293,9 +293,8 @@ fn slide_row() -> Row {
 }
 
 fn roll_row() -> Row {
-    const SPEED: f64 = 3.0;
-    let scene = scenes::roll(SPEED);
-    let exact = 5.0 / 7.0 * SPEED;
+    let scene = scenes::roll(ROLL_SPEED);
+    let exact = 5.0 / 7.0 * ROLL_SPEED;
     let (ours, ours_ms) = run_observed::<Ours>(&scene, |_| {});
     let (theirs, theirs_ms) = run_observed::<Theirs>(&scene, |_| {});
     let speed = |v: DVec3| DVec3::new(v.x, 0.0, v.z).length();
@@ -323,20 +322,30 @@ const SWEEP: &[(u32, u32)] = &[(3, 2), (4, 4), (5, 6), (6, 8), (8, 12)];
 const LARGE_SWEEP: &[(u32, u32)] = &[(4, 4)];
 const LARGE_REPEATS: usize = 3;
 
-/// What a sweep measures as the error of a run, m.
+/// What a sweep measures as the error of a run.
 #[derive(Clone, Copy)]
 enum SweepError {
-    /// The pyramid's worst drift.
+    /// The pyramid's worst drift, m.
     Drift,
-    /// The deepest overlap of two bodies at the end.
+    /// The deepest overlap of two bodies at the end, m.
     DeepestOverlap,
+    /// C6: |final speed / (5/7 v0) − 1| of a ball launched sliding at `ROLL_SPEED`.
+    RollingSpeed,
 }
+
+/// C6's launch speed, m/s.
+const ROLL_SPEED: f64 = 3.0;
 
 impl SweepError {
     fn of<E: Engine>(self, engine: &E, scene: &SceneDesc) -> f64 {
         match self {
             SweepError::Drift => pyramid_result(engine, scene).0,
             SweepError::DeepestOverlap => overlap(engine, scene).deepest,
+            SweepError::RollingSpeed => {
+                let v = engine.velocity(1);
+                let speed = DVec3::new(v.x, 0.0, v.z).length();
+                (speed / (5.0 / 7.0 * ROLL_SPEED) - 1.0).abs()
+            }
         }
     }
 
@@ -344,6 +353,14 @@ impl SweepError {
         match self {
             SweepError::Drift => "worst drift",
             SweepError::DeepestOverlap => "deepest overlap",
+            SweepError::RollingSpeed => "final speed off by",
+        }
+    }
+
+    fn show(self, error: f64) -> String {
+        match self {
+            SweepError::Drift | SweepError::DeepestOverlap => format!("{:.1} mm", error * 1e3),
+            SweepError::RollingSpeed => format!("{:.4} %", error * 1e2),
         }
     }
 }
@@ -401,12 +418,12 @@ fn sweep_table(sweeps: &[Sweep]) -> String {
         for (engine, settings) in [("ours", &sweep.ours), ("rapier", &sweep.theirs)] {
             for s in settings {
                 out += &format!(
-                    "| {} | {engine} | {} | {:.4} | {} {:.1} mm |\n",
+                    "| {} | {engine} | {} | {:.4} | {} {} |\n",
                     sweep.scene,
                     s.substeps,
                     s.ms,
                     sweep.error.name(),
-                    s.error * 1e3
+                    sweep.error.show(s.error)
                 );
             }
         }
@@ -425,21 +442,21 @@ fn sweep_verdicts(sweeps: &[Sweep]) -> String {
                 .min_by(|x, y| x.ms.total_cmp(&y.ms));
             let verdict = match ours {
                 Some(o) => format!(
-                    "our fastest at equal or lower error is {} substeps ({:.1} mm, {:.4} \
+                    "our fastest at equal or lower error is {} substeps ({}, {:.4} \
                      ms/step): time ratio {:.2}",
                     o.substeps,
-                    o.error * 1e3,
+                    sweep.error.show(o.error),
                     o.ms,
                     o.ms / theirs.ms
                 ),
                 None => "no setting of ours tried is as accurate".to_owned(),
             };
             out += &format!(
-                "- {}, rapier at {} iterations ({} {:.1} mm, {:.4} ms/step): {verdict}.\n",
+                "- {}, rapier at {} iterations ({} {}, {:.4} ms/step): {verdict}.\n",
                 sweep.scene,
                 theirs.substeps,
                 sweep.error.name(),
-                theirs.error * 1e3,
+                sweep.error.show(theirs.error),
                 theirs.ms
             );
         }
@@ -620,6 +637,13 @@ fn main() {
             LARGE_SWEEP,
             LARGE_REPEATS,
         ),
+        sweep(
+            "C6 rolling",
+            &scenes::roll(ROLL_SPEED),
+            SweepError::RollingSpeed,
+            SWEEP,
+            PYRAMID_REPEATS,
+        ),
     ];
     println!("## Side by side with rapier3d\n");
     println!("{}", details());
@@ -628,10 +652,11 @@ fn main() {
     println!("### Work against error over the substeps\n");
     println!(
         "Both engines over their substeps, in pairs taking turns as above ({REPEATS} runs each, \
-         the pyramid {PYRAMID_REPEATS}; the rain of 4000 {LARGE_REPEATS}, at one pair of \
+         the pyramid and C6 {PYRAMID_REPEATS}; the rain of 4000 {LARGE_REPEATS}, at one pair of \
          settings). Our spring stiffness \
          stays at its default, capped at a fifth of the substep rate. The errors are the \
-         table's: the pyramid's worst drift, the rain's deepest overlap.\n"
+         table's: the pyramid's worst drift, the rain's deepest overlap, C6's relative error \
+         of the final speed.\n"
     );
     println!("{}", sweep_table(&sweeps));
     println!("{}", sweep_verdicts(&sweeps));

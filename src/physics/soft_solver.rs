@@ -239,10 +239,10 @@ fn moves(slot: u32) -> bool {
 /// tangents; the arms stay fixed for the step: impulses act where the bodies touch, not
 /// where that material point has rotated to (a rolling ball keeps pushing at its bottom).
 ///
-/// Kept small (a pass streams the constraints through memory): the speeds and the turning
-/// are derived in each pass from the levers and the bodies' momenta rather than stored per
-/// direction. The fields are laid out in the order a pass reads them, so that the
-/// processor's prefetcher sees one forward stream.
+/// A pass streams the constraints through memory, so only what shortens a point's solve is
+/// stored: the spins that give the speeds from the momenta (`Side::spins`); the turning an
+/// impulse gives is derived from the levers. The fields are laid out in the order a pass
+/// reads them, so that the processor's prefetcher sees one forward stream.
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]
 struct PointConstraint {
@@ -603,7 +603,7 @@ fn environment_acceleration(body: &RigidBody, forces: &[EnvironmentForce]) -> DV
 }
 
 /// Velocity at step start of the material point at `lever` from the body's centre of mass
-/// (the passes take theirs from the momenta: `Side::point_velocity`).
+/// (the passes take theirs from the momenta: `PointConstraint::speeds`).
 #[inline(always)]
 fn velocity_at_start(body: &RigidBody, slot: u32, motions: &[SlotMotion], lever: DVec3) -> DVec3 {
     if moves(slot) {
