@@ -294,12 +294,11 @@ fn slide_row() -> Row {
 
 fn roll_row() -> Row {
     let scene = scenes::roll(ROLL_SPEED);
-    let exact = 5.0 / 7.0 * ROLL_SPEED;
+    let exact = rolled_speed();
     let (ours, ours_ms) = run_observed::<Ours>(&scene, |_| {});
     let (theirs, theirs_ms) = run_observed::<Theirs>(&scene, |_| {});
-    let speed = |v: DVec3| DVec3::new(v.x, 0.0, v.z).length();
-    let (ours_error, ours_cell) = relative(speed(ours.velocity(1)), exact, "m/s");
-    let (theirs_error, theirs_cell) = relative(speed(theirs.velocity(1)), exact, "m/s");
+    let (ours_error, ours_cell) = relative(rolling_speed(&ours), exact, "m/s");
+    let (theirs_error, theirs_cell) = relative(rolling_speed(&theirs), exact, "m/s");
     Row {
         scene: format!("C6 rolling, final speed (exact {exact:.4} m/s)"),
         ours_ms,
@@ -336,16 +335,23 @@ enum SweepError {
 /// C6's launch speed, m/s.
 const ROLL_SPEED: f64 = 3.0;
 
+/// C6's exact answer: a ball launched sliding at v0 rolls at 5/7 v0.
+fn rolled_speed() -> f64 {
+    5.0 / 7.0 * ROLL_SPEED
+}
+
+/// C6: the ball's speed along the floor.
+fn rolling_speed<E: Engine>(engine: &E) -> f64 {
+    let v = engine.velocity(1);
+    DVec3::new(v.x, 0.0, v.z).length()
+}
+
 impl SweepError {
     fn of<E: Engine>(self, engine: &E, scene: &SceneDesc) -> f64 {
         match self {
             SweepError::Drift => pyramid_result(engine, scene).0,
             SweepError::DeepestOverlap => overlap(engine, scene).deepest,
-            SweepError::RollingSpeed => {
-                let v = engine.velocity(1);
-                let speed = DVec3::new(v.x, 0.0, v.z).length();
-                (speed / (5.0 / 7.0 * ROLL_SPEED) - 1.0).abs()
-            }
+            SweepError::RollingSpeed => (rolling_speed(engine) / rolled_speed() - 1.0).abs(),
         }
     }
 

@@ -808,23 +808,18 @@ fn run_pass_inline<L: Lanes>(
     let relax = bias.is_none();
     let mut k = 0;
     while k < contacts.len() {
-        let rest = &mut contacts[k..];
-        if let [first, second, ..] = rest
-            && first.pairs_with_next
-        {
-            if relax {
-                first.separation = current_separation(l, bodies, first);
-                second.separation = current_separation(l, bodies, second);
+        let paired = contacts[k].pairs_with_next && k + 1 < contacts.len();
+        let group = &mut contacts[k..k + 1 + paired as usize];
+        k += group.len();
+        if relax {
+            for c in group.iter_mut() {
+                c.separation = current_separation(l, bodies, c);
             }
-            solve_two(l, bodies, [first, second], h, bias);
-            k += 2;
-        } else {
-            let first = &mut rest[0];
-            if relax {
-                first.separation = current_separation(l, bodies, first);
-            }
-            solve(l, bodies, first, h, bias);
-            k += 1;
+        }
+        match group {
+            [first, second] => solve_two(l, bodies, [first, second], h, bias),
+            [only] => solve(l, bodies, only, h, bias),
+            _ => unreachable!("a group is one contact or two"),
         }
     }
 }

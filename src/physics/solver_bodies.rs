@@ -34,6 +34,15 @@ pub struct SolverBody {
     pub before_contacts: [F64x4; 2],
 }
 
+impl SolverBody {
+    /// Writes the momenta the contacts changed back to the body.
+    #[inline(always)]
+    fn write_momenta(&self, body: &mut RigidBody) {
+        body.linear_momentum = self.linear_momentum.to_vec3();
+        body.angular_momentum = self.angular_momentum.to_vec3();
+    }
+}
+
 /// The slot that every body which does not move shares.
 pub const FIXED_SLOT: u32 = 0;
 
@@ -121,8 +130,7 @@ impl SolverBodies {
     pub fn drift(&mut self, bodies: &mut [RigidBody], mut drift: impl FnMut(&mut RigidBody)) {
         for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
             let body = &mut bodies[index as usize];
-            body.linear_momentum = slot.linear_momentum.to_vec3();
-            body.angular_momentum = slot.angular_momentum.to_vec3();
+            slot.write_momenta(body);
             drift(body);
             slot.position = F64x4::from_vec3(body.position);
             slot.orientation = columns(&body.orientation);
@@ -145,8 +153,7 @@ impl SolverBodies {
                 ];
             }
             let body = &mut bodies[index as usize];
-            body.linear_momentum = slot.linear_momentum.to_vec3();
-            body.angular_momentum = slot.angular_momentum.to_vec3();
+            slot.write_momenta(body);
         }
     }
 
@@ -154,8 +161,7 @@ impl SolverBodies {
     pub fn scatter(&self, bodies: &mut [RigidBody]) {
         for (slot, &index) in self.slots[1..].iter().zip(&self.awake) {
             let body = &mut bodies[index as usize];
-            body.linear_momentum = slot.linear_momentum.to_vec3();
-            body.angular_momentum = slot.angular_momentum.to_vec3();
+            slot.write_momenta(body);
         }
     }
 }
