@@ -150,6 +150,41 @@ fn c2_bounces_reach_h_e_to_the_2k_at_the_default_settings() {
     }
 }
 
+/// C6 through the whole step at the defaults: a ball launched sliding rolls at 5/7 v0. Its
+/// soft contact sinks it by the spring's static deflection g/ω² (0.069 mm at 60 Hz), and its
+/// lever arm, reaching the midpoint of that overlap, is short by half of it, which makes it
+/// roll 0.57·δ/(2R) = 0.004 % slow. Were the ball's turning read as lifting its contact
+/// point off the floor, it would sink 0.8 mm and roll 0.03 % slow.
+#[test]
+fn c6_a_rolling_ball_sinks_by_the_springs_deflection_and_rolls_at_five_sevenths() {
+    let (radius, v0) = (0.5, 3.0);
+    let mut world = world();
+    add_ground(&mut world);
+    let ball = world
+        .add_body(
+            BodyDesc::dynamic(Shape::sphere(radius))
+                .at(DVec3::Y * radius)
+                .with_velocity(DVec3::X * v0)
+                .with_material(Material {
+                    friction: 0.5,
+                    ..Material::default()
+                }),
+        )
+        .unwrap();
+    // Slipping ends after 2 v0 / (7 μ g) = 0.17 s.
+    run(&mut world, 2.0);
+    let body = world.body(ball);
+    let omega = 2.0 * std::f64::consts::PI * world.settings.solver.contact_hertz;
+    let deflection = 9.81 / (omega * omega);
+    let sink = radius - body.position.y;
+    let speed_error = body.velocity().x / (5.0 / 7.0 * v0) - 1.0;
+    println!(
+        "C6 at the defaults: sank {sink:.3e} m (g/ω² {deflection:.3e}), speed {speed_error:+.2e}"
+    );
+    assert!((sink / deflection - 1.0).abs() < 0.05, "sank {sink}");
+    assert!(speed_error.abs() < 1e-4, "speed off by {speed_error}");
+}
+
 #[test]
 fn c11_a_fast_small_sphere_never_passes_a_thin_wall() {
     let mut world = World::default();

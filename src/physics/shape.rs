@@ -186,6 +186,22 @@ impl Shape {
         (min, max)
     }
 
+    /// For a point on a rounded part of the surface (a sphere, a capsule's sides and ends),
+    /// the centre of that rounding in shape coordinates: the core point the surface point
+    /// lies a radius away from. None for shapes with flat faces, edges or rims. A round
+    /// contact is where the core is nearest the other surface, whichever way the body has
+    /// turned: a rolling ball's contact stays under its centre, while the material point
+    /// under it rolls up and away.
+    pub fn round_core(&self, point: DVec3) -> Option<DVec3> {
+        match *self {
+            Shape::Sphere { .. } => Some(DVec3::ZERO),
+            Shape::Capsule { half_height, .. } => {
+                Some(DVec3::Y * point.y.clamp(-half_height, half_height))
+            }
+            _ => None,
+        }
+    }
+
     /// Radius of an origin-centred sphere that holds the shape: the smallest for the
     /// primitives, the one through the farthest corner of the local bounds for hulls and
     /// compounds (at most √3 times the smallest).
@@ -296,6 +312,32 @@ mod tests {
                 "{name}: {farthest} > {radius}"
             );
             assert!(farthest > radius * 0.999, "{name}: {farthest} < {radius}");
+        }
+    }
+
+    /// A round shape's surface point farthest along d lies a radius along d from the core
+    /// point that `round_core` finds for it; shapes with flat parts have no core.
+    #[test]
+    fn a_round_surface_point_is_a_radius_out_from_its_core() {
+        let round = [(Shape::sphere(0.3), 0.3), (Shape::capsule(0.4, 0.15), 0.15)];
+        for (shape, radius) in round {
+            for i in 0..200 {
+                let z = 1.0 - (i as f64 + 0.5) / 100.0;
+                let angle = i as f64 * 2.399_963;
+                let r = (1.0 - z * z).sqrt();
+                let direction = DVec3::new(r * angle.cos(), z, r * angle.sin());
+                let surface = shape.support(direction);
+                let core = shape.round_core(surface).expect("round");
+                let name = shape.kind_name();
+                assert!(
+                    (core + direction * radius).distance(surface) < 1e-12,
+                    "{name}: {direction}"
+                );
+            }
+        }
+        let flat = [Shape::cuboid(DVec3::splat(0.2)), Shape::cylinder(0.3, 0.2)];
+        for shape in flat {
+            assert_eq!(shape.round_core(shape.support(DVec3::Y)), None);
         }
     }
 }

@@ -95,8 +95,12 @@ struct Side {
     /// symmetric): one product with the momentum instead of deriving ω and crossing it with r,
     /// which made the longest chain of dependent operations in a pass longer.
     spins: [F64x4; 3],
-    /// The lever arm in body axes, or for a body that does not move in this step, the
-    /// contact point in world axes: the separation follows the bodies as they turn.
+    /// The point whose motion the separation follows as the bodies move in this step, in
+    /// body axes, or for a body that does not move, in world axes. The contact point itself
+    /// (the lever arm), except on a round surface, where it is the centre of the rounding
+    /// (`Shape::round_core`): a ball rolling on a floor turns its material contact point up
+    /// and away within the step, which read as the ball lifting off, and it sank 0.8 mm
+    /// instead of 0.07 mm at 60 Hz. The sunk lever arm made it roll 0.03 % slow.
     anchor: F64x4,
 }
 
@@ -113,6 +117,9 @@ struct SideGeometry<V> {
     arms: [V; 3],
     spins: [V; 3],
     anchor: DVec3,
+    /// From the contact point to the anchor at step start, world axes: zero but on a round
+    /// surface.
+    anchor_shift: DVec3,
 }
 
 impl<V: LaneVector> SideGeometry<V> {
@@ -132,6 +139,7 @@ impl<V: LaneVector> SideGeometry<V> {
                 arms: [zero; 3],
                 spins: [zero; 3],
                 anchor: body.position + lever,
+                anchor_shift: DVec3::ZERO,
             };
         }
         let r = lever;
@@ -150,11 +158,21 @@ impl<V: LaneVector> SideGeometry<V> {
             arms[0] * x.y + arms[1] * y.y + arms[2] * z.y,
             arms[0] * x.z + arms[1] * y.z + arms[2] * z.z,
         ];
+        let to_body = body.orientation.transpose();
+        let on_surface = to_body * lever;
+        let (anchor, anchor_shift) = match (body.shape).round_core(on_surface + body.local_center) {
+            Some(core) => {
+                let anchor = core - body.local_center;
+                (anchor, body.orientation * anchor - lever)
+            }
+            None => (on_surface, DVec3::ZERO),
+        };
         SideGeometry {
             lever,
             arms,
             spins,
-            anchor: body.orientation.transpose() * lever,
+            anchor,
+            anchor_shift,
         }
     }
 
@@ -649,7 +667,9 @@ fn prepare<L: Lanes>(
     let across = F64x4::transpose(directions);
     let side_a = SideGeometry::new(l, a, slot_a, r_a, &across);
     let side_b = SideGeometry::new(l, b, slot_b, r_b, &across);
-    let separation_offset = contact.separation - normal.dot(r_b - r_a + b.position - a.position);
+    let separation_offset = contact.separation
+        - normal.dot(r_b - r_a + b.position - a.position)
+        - normal.dot(side_b.anchor_shift - side_a.anchor_shift);
     let (anchor_a, anchor_b) = (
         side_a.anchor_at(slot_a, a.position, a.orientation),
         side_b.anchor_at(slot_b, b.position, b.orientation),
