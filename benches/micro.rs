@@ -130,17 +130,21 @@ fn broad(c: &mut Criterion) {
         .filter(|&i| boxes[i as usize].active)
         .collect();
     c.bench_function("sweep and prune, 2000 boxes", |b| {
-        let mut sap = SweepAndPrune::default();
-        b.iter(|| sap.find_pairs(black_box(&boxes)))
+        let (mut sap, mut pairs) = (SweepAndPrune::default(), Vec::new());
+        b.iter(|| sap.fill_pairs(black_box(&boxes), &mut pairs))
     });
     c.bench_function("split broad phase, 2000 boxes, idle tree kept", |b| {
-        let mut split = SplitBroadPhase::new(BroadPhaseKind::SweepAndPrune);
-        split.find_pairs(&boxes, &awake, true);
-        b.iter(|| split.find_pairs(black_box(&boxes), &awake, false))
+        let (mut split, mut pairs) = (
+            SplitBroadPhase::new(BroadPhaseKind::SweepAndPrune),
+            Vec::new(),
+        );
+        split.fill_pairs(&boxes, &awake, true, &mut pairs);
+        b.iter(|| split.fill_pairs(black_box(&boxes), &awake, false, &mut pairs))
     });
     let idle: Vec<(Aabb, u32)> = boxes.iter().map(|p| p.aabb).zip(0..).collect();
     c.bench_function("aabb tree build, 2000 boxes", |b| {
-        b.iter(|| AabbTree::build(black_box(idle.clone())))
+        let mut tree = AabbTree::default();
+        b.iter(|| tree.rebuild(black_box(&idle).iter().copied()))
     });
     let tree = AabbTree::build(idle);
     let query = Aabb::from_center_half_extents(DVec3::splat(20.0), DVec3::splat(1.0));

@@ -76,7 +76,7 @@ const PAIRS_PER_TASK: usize = 64;
 /// order, and so every later stage, is the same for any number of threads.
 ///
 /// The manifolds replace those in `manifolds`, and what to remember replaces `memory`, whose
-/// old list is handed back in `spare` for the next step to fill: once grown, a step
+/// old list is handed back in `scratch` for the next step to fill: once grown, a step
 /// allocates none of these lists.
 pub fn find_manifolds(
     bodies: &[RigidBody],
@@ -84,46 +84,68 @@ pub fn find_manifolds(
     clusters: &Clusters,
     dt: f64,
     memory: &mut ManifoldMemory,
-    spare: &mut Vec<RememberedManifold>,
+    scratch: &mut NarrowScratch,
     manifolds: &mut Vec<ContactManifold>,
 ) {
     let mut found = Found {
         manifolds: std::mem::take(manifolds),
-        remembered: std::mem::take(spare),
+        remembered: std::mem::take(&mut scratch.spare),
     };
-    found.manifolds.clear();
+    found.clear();
     found.manifolds.reserve(pairs.len());
-    found.remembered.clear();
     found.remembered.reserve(pairs.len());
     let memory_read: &ManifoldMemory = memory;
     if rayon::current_num_threads() == 1 {
         // Handing the work to a pool of one thread only adds its wake-ups.
         found.add_pairs(bodies, pairs, clusters, dt, memory_read);
     } else {
-        let parts: Vec<Found> = (pairs.par_chunks(PAIRS_PER_TASK))
-            .map(|chunk| {
-                let mut part = Found::default();
+        // Parts beyond this step's are kept, with their memory, for a busier step.
+        let tasks = pairs.len().div_ceil(PAIRS_PER_TASK);
+        if scratch.parts.len() < tasks {
+            scratch.parts.resize_with(tasks, Found::default);
+        }
+        let parts = &mut scratch.parts[..tasks];
+        (parts.par_iter_mut())
+            .zip(pairs.par_chunks(PAIRS_PER_TASK))
+            .for_each(|(part, chunk)| {
+                // Empty (the appends below empty them), and a pair makes at most one
+                // manifold: a part never grows past this.
+                part.manifolds.reserve(chunk.len());
+                part.remembered.reserve(chunk.len());
                 part.add_pairs(bodies, chunk, clusters, dt, memory_read);
-                part
-            })
-            .collect();
-        for mut part in parts {
+            });
+        for part in parts.iter_mut() {
             found.manifolds.append(&mut part.manifolds);
             found.remembered.append(&mut part.remembered);
         }
     }
     *manifolds = found.manifolds;
-    *spare = memory.replace(found.remembered);
+    scratch.spare = memory.replace(found.remembered);
+}
+
+/// The lists the narrow phase keeps between steps, so that once grown a step allocates
+/// none of them.
+#[derive(Clone, Debug, Default)]
+pub struct NarrowScratch {
+    /// The list the next step's memory is built in: the one the memory held before.
+    spare: Vec<RememberedManifold>,
+    /// One part per task when the pairs are spread over threads, joined in pair order.
+    parts: Vec<Found>,
 }
 
 /// Manifolds found, in pair order, with what to remember of each.
-#[derive(Default)]
+#[derive(Clone, Debug, Default)]
 struct Found {
     manifolds: Vec<ContactManifold>,
     remembered: Vec<RememberedManifold>,
 }
 
 impl Found {
+    fn clear(&mut self) {
+        self.manifolds.clear();
+        self.remembered.clear();
+    }
+
     /// The manifolds of `pairs`, in their order. Each is pushed where it is made: a
     /// manifold holds its contacts inline, and handing it back through the callers cost
     /// two copies of it per pair.

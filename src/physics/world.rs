@@ -32,8 +32,8 @@ use crate::physics::contact_cache::ContactCache;
 use crate::physics::forces::{self, EnvironmentForce};
 use crate::physics::integrate::{self, Integrator};
 use crate::physics::islands::{self, IslandScratch, SleepSettings};
-use crate::physics::manifold_memory::{ManifoldMemory, RememberedManifold};
-use crate::physics::narrow_phase;
+use crate::physics::manifold_memory::ManifoldMemory;
+use crate::physics::narrow_phase::{self, NarrowScratch};
 use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
 use crate::physics::soft_solver::{
     self, ContactInput, SoftScratch, SoftSolverSettings, StepContext,
@@ -77,8 +77,8 @@ pub struct World {
     manifolds: Vec<ContactManifold>,
     /// The last step's manifolds in their bodies' frames, carried while pairs barely move.
     manifold_memory: ManifoldMemory,
-    /// The list the next step's memory is built in (see `narrow_phase::find_manifolds`).
-    spare_remembered: Vec<RememberedManifold>,
+    /// The narrow phase's lists, kept between steps (see `narrow_phase::find_manifolds`).
+    narrow_scratch: NarrowScratch,
     /// The bodies of this step's pairs, grouped by them (see `closing_speed`).
     clusters: Clusters,
     contact_cache: ContactCache,
@@ -90,8 +90,9 @@ pub struct World {
     /// The force list as the last step saw it: an edit wakes every body.
     forces_seen: Vec<EnvironmentForce>,
     awake: usize,
-    /// Pairs the last forward step's broad phase handed to the narrow phase.
-    pairs: usize,
+    /// Pairs the last forward step's broad phase handed to the narrow phase (the list is
+    /// kept so that a step reuses its memory).
+    pairs: Vec<BodyPair>,
     classic_report: ClassicReport,
     stage_times: StageTimes,
     /// Whether steps measure `stage_times`.
@@ -170,7 +171,7 @@ impl World {
             woken_for_no_sleep: false,
             manifolds: Vec::new(),
             manifold_memory: ManifoldMemory::default(),
-            spare_remembered: Vec::new(),
+            narrow_scratch: NarrowScratch::default(),
             clusters: Clusters::default(),
             contact_cache: ContactCache::default(),
             solver_inputs: Vec::new(),
@@ -178,7 +179,7 @@ impl World {
             island_scratch: IslandScratch::default(),
             forces_seen: Vec::new(),
             awake: 0,
-            pairs: 0,
+            pairs: Vec::new(),
             classic_report: ClassicReport::default(),
             stage_times: StageTimes::default(),
             stage_timing: false,
@@ -325,18 +326,17 @@ impl World {
         times.checks = clock.lap();
         if dt >= 0.0 {
             self.wake_on_user_input(&touched);
-            let pairs = self.broad_phase(dt, &touched);
-            self.pairs = pairs.len();
+            self.broad_phase(dt, &touched);
             times.broad_phase = clock.lap();
             self.manifold_memory.forget(&touched);
-            self.clusters.measure(&self.bodies, &pairs);
+            self.clusters.measure(&self.bodies, &self.pairs);
             narrow_phase::find_manifolds(
                 &self.bodies,
-                &pairs,
+                &self.pairs,
                 &self.clusters,
                 dt,
                 &mut self.manifold_memory,
-                &mut self.spare_remembered,
+                &mut self.narrow_scratch,
                 &mut self.manifolds,
             );
             times.narrow_phase = clock.lap();
@@ -349,7 +349,7 @@ impl World {
             times.integrate = match self.settings.pipeline {
                 Pipeline::Soft => self.solve(dt),
                 Pipeline::Classic => {
-                    self.solve_classic(&pairs, dt);
+                    self.solve_classic(dt);
                     0.0
                 }
             };
@@ -417,14 +417,14 @@ impl World {
     }
 
     /// The report's pipeline; its touching contacts replace the speculative ones for display.
-    fn solve_classic(&mut self, pairs: &[BodyPair], dt: f64) {
+    fn solve_classic(&mut self, dt: f64) {
         let ctx = ClassicContext {
             forces: &self.forces,
             integrator: self.settings.integrator,
             settings: &self.settings.classic,
             dt,
         };
-        let (report, touching) = classic::step(&mut self.bodies, pairs, &ctx);
+        let (report, touching) = classic::step(&mut self.bodies, &self.pairs, &ctx);
         self.classic_report = report;
         self.manifolds = touching;
         self.manifold_memory.clear();
@@ -444,7 +444,7 @@ impl World {
 
     /// Candidate pairs of the last forward step's broad phase (overlapping fattened boxes).
     pub fn pair_count(&self) -> usize {
-        self.pairs
+        self.pairs.len()
     }
 
     /// A changed force list wakes every body; a force a user put on a sleeping body wakes it.
@@ -493,7 +493,8 @@ impl World {
 
     /// Proxies of the awake and touched bodies are refreshed; idle ones are kept, and only
     /// when some body fell asleep, woke or was touched are the idle boxes looked at again.
-    fn broad_phase(&mut self, dt: f64, touched: &[u32]) -> Vec<BodyPair> {
+    /// The pairs go to `self.pairs`.
+    fn broad_phase(&mut self, dt: f64, touched: &[u32]) {
         if self.broad_phase.kind() != self.settings.broad_phase {
             self.broad_phase = SplitBroadPhase::new(self.settings.broad_phase);
         }
@@ -508,8 +509,7 @@ impl World {
             }
         }
         let awake = self.awake_set.awake(&self.bodies);
-        self.broad_phase
-            .find_pairs(&self.proxies, awake, idle_changed)
+        (self.broad_phase).fill_pairs(&self.proxies, awake, idle_changed, &mut self.pairs);
     }
 
     /// Forces, integration and contacts together, in substeps (see `soft_solver`).

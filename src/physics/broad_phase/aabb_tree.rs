@@ -27,20 +27,27 @@ struct Node {
 }
 
 impl AabbTree {
-    pub fn build(items: Vec<(Aabb, u32)>) -> AabbTree {
-        let mut tree = AabbTree {
-            nodes: Vec::with_capacity(2 * items.len() / LEAF_SIZE + 1),
-            items,
-        };
-        if !tree.items.is_empty() {
-            tree.nodes.push(Node {
-                bounds: bounds_of(&tree.items),
-                first: 0,
-                count: tree.items.len() as u32,
-            });
-            tree.split(0);
-        }
+    pub fn build(items: impl IntoIterator<Item = (Aabb, u32)>) -> AabbTree {
+        let mut tree = AabbTree::default();
+        tree.rebuild(items);
         tree
+    }
+
+    /// The tree of `items` in place of this one, in the memory this one held: the world
+    /// rebuilds its idle tree whenever a body falls asleep or wakes.
+    pub fn rebuild(&mut self, items: impl IntoIterator<Item = (Aabb, u32)>) {
+        self.items.clear();
+        self.items.extend(items);
+        self.nodes.clear();
+        self.nodes.reserve(2 * self.items.len() / LEAF_SIZE + 1);
+        if !self.items.is_empty() {
+            self.nodes.push(Node {
+                bounds: bounds_of(&self.items),
+                first: 0,
+                count: self.items.len() as u32,
+            });
+            self.split(0);
+        }
     }
 
     pub fn len(&self) -> usize {

@@ -6,8 +6,8 @@ use crate::physics::broad_phase::{BodyPair, BroadPhase, Proxy, wants_pair};
 pub struct BruteForce;
 
 impl BroadPhase for BruteForce {
-    fn find_pairs(&mut self, proxies: &[Proxy]) -> Vec<BodyPair> {
-        let mut pairs = Vec::new();
+    fn fill_pairs(&mut self, proxies: &[Proxy], pairs: &mut Vec<BodyPair>) {
+        pairs.clear();
         for (i, p) in proxies.iter().enumerate() {
             for (j, q) in proxies.iter().enumerate().skip(i + 1) {
                 if wants_pair(p, q) {
@@ -15,6 +15,5 @@ impl BroadPhase for BruteForce {
                 }
             }
         }
-        pairs
     }
 }

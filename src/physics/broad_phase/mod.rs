@@ -78,9 +78,18 @@ pub fn wants_pair(p: &Proxy, q: &Proxy) -> bool {
 }
 
 pub trait BroadPhase {
-    /// Takes this step's proxies (index = body index) and returns the overlapping pairs,
-    /// sorted and without duplicates. Implementations may keep state between calls.
-    fn find_pairs(&mut self, proxies: &[Proxy]) -> Vec<BodyPair>;
+    /// Takes this step's proxies (index = body index) and replaces the contents of `pairs`
+    /// with the overlapping pairs, sorted and without duplicates. The caller keeps `pairs`
+    /// between steps, so a step reuses its memory. Implementations may keep state between
+    /// calls.
+    fn fill_pairs(&mut self, proxies: &[Proxy], pairs: &mut Vec<BodyPair>);
+
+    /// `fill_pairs` into a new list.
+    fn find_pairs(&mut self, proxies: &[Proxy]) -> Vec<BodyPair> {
+        let mut pairs = Vec::new();
+        self.fill_pairs(proxies, &mut pairs);
+        pairs
+    }
 }
 
 /// The implementations, selectable in settings.
@@ -116,8 +125,11 @@ pub struct SplitBroadPhase {
     idle: AabbTree,
     /// False until the tree is first built (a new or cloned broad phase).
     built: bool,
-    /// The awake bodies' proxies, compacted for `awake_phase` (reused between steps).
+    /// The awake bodies' proxies, compacted for `awake_phase`, the pairs it finds among
+    /// them and the awake bodies' pairs with idle ones (all reused between steps).
     awake_proxies: Vec<Proxy>,
+    awake_pairs: Vec<BodyPair>,
+    idle_pairs: Vec<BodyPair>,
 }
 
 impl SplitBroadPhase {
@@ -128,6 +140,8 @@ impl SplitBroadPhase {
             idle: AabbTree::default(),
             built: false,
             awake_proxies: Vec::new(),
+            awake_pairs: Vec::new(),
+            idle_pairs: Vec::new(),
         }
     }
 
@@ -135,47 +149,52 @@ impl SplitBroadPhase {
         self.kind
     }
 
-    /// Pairs among `proxies` (indexed by body) where `awake` lists the active ones, sorted.
-    /// `idle_changed` must be true whenever an inactive proxy changed since the last call.
-    pub fn find_pairs(
+    /// Replaces the contents of `pairs` with the pairs among `proxies` (indexed by body)
+    /// where `awake` lists the active ones, sorted. `idle_changed` must be true whenever an
+    /// inactive proxy changed since the last call.
+    pub fn fill_pairs(
         &mut self,
         proxies: &[Proxy],
         awake: &[u32],
         idle_changed: bool,
-    ) -> Vec<BodyPair> {
+        pairs: &mut Vec<BodyPair>,
+    ) {
         if idle_changed || !self.built {
             self.built = true;
             let idle = proxies.iter().enumerate().filter(|(_, p)| !p.active);
             let boxes = idle.filter(|(_, p)| p.aabb.min.cmple(p.aabb.max).all());
-            self.idle = AabbTree::build(boxes.map(|(i, p)| (p.aabb, i as u32)).collect());
+            self.idle.rebuild(boxes.map(|(i, p)| (p.aabb, i as u32)));
         }
         self.awake_proxies.clear();
         self.awake_proxies
             .extend(awake.iter().map(|&i| proxies[i as usize]));
         // The awake phase's pairs come sorted, and `awake` ascends, so renaming them keeps
         // them sorted: only the pairs with an idle body need sorting, then the two merge.
-        let awake_pairs: Vec<BodyPair> = self
-            .awake_phase
-            .find_pairs(&self.awake_proxies)
-            .into_iter()
-            .map(|p| BodyPair::new(awake[p.a.index()] as usize, awake[p.b.index()] as usize))
-            .collect();
-        debug_assert!(awake_pairs.is_sorted());
-        let mut idle_pairs = Vec::new();
+        (self.awake_phase).fill_pairs(&self.awake_proxies, &mut self.awake_pairs);
+        for pair in &mut self.awake_pairs {
+            *pair = BodyPair::new(
+                awake[pair.a.index()] as usize,
+                awake[pair.b.index()] as usize,
+            );
+        }
+        debug_assert!(self.awake_pairs.is_sorted());
+        let idle_pairs = &mut self.idle_pairs;
+        idle_pairs.clear();
         for &i in awake {
             let aabb = &proxies[i as usize].aabb;
             self.idle.query(aabb, |j| {
                 idle_pairs.push(BodyPair::new(i as usize, j as usize))
             });
         }
-        sort_pairs(&mut idle_pairs);
-        merge_sorted(&awake_pairs, &idle_pairs)
+        sort_pairs(idle_pairs);
+        merge_sorted(&self.awake_pairs, idle_pairs, pairs);
     }
 }
 
-/// The elements of two sorted lists, sorted.
-fn merge_sorted<T: Copy + Ord>(x: &[T], y: &[T]) -> Vec<T> {
-    let mut merged = Vec::with_capacity(x.len() + y.len());
+/// Replaces the contents of `merged` with the elements of two sorted lists, sorted.
+fn merge_sorted<T: Copy + Ord>(x: &[T], y: &[T], merged: &mut Vec<T>) {
+    merged.clear();
+    merged.reserve(x.len() + y.len());
     let (mut i, mut j) = (0, 0);
     while i < x.len() && j < y.len() {
         if y[j] < x[i] {
@@ -188,7 +207,6 @@ fn merge_sorted<T: Copy + Ord>(x: &[T], y: &[T]) -> Vec<T> {
     }
     merged.extend_from_slice(&x[i..]);
     merged.extend_from_slice(&y[j..]);
-    merged
 }
 
 impl Clone for SplitBroadPhase {

@@ -101,7 +101,7 @@ fn widest_axis(proxies: &[Proxy]) -> usize {
 }
 
 impl BroadPhase for SweepAndPrune {
-    fn find_pairs(&mut self, proxies: &[Proxy]) -> Vec<BodyPair> {
+    fn fill_pairs(&mut self, proxies: &[Proxy], pairs: &mut Vec<BodyPair>) {
         self.track_body_count(proxies.len());
         let axis = widest_axis(proxies);
         // Where `Interval::of` puts each box: a box with a NaN bound goes last, as `EMPTY`.
@@ -126,18 +126,20 @@ impl BroadPhase for SweepAndPrune {
                 }
             }
         }
-        sorted_by_first_body(&self.swept, proxies.len(), &mut self.starts)
+        sorted_by_first_body(&self.swept, proxies.len(), &mut self.starts, pairs);
     }
 }
 
-/// `pairs` in `sort_pairs` order: a counting sort on the first body, then each first
-/// body's few pairs sorted on the second. The pairs are distinct, so this is the one sorted
-/// order; a comparison sort of a rain's thousands of pairs took 2 % of its instructions.
+/// Replaces the contents of `sorted` with `pairs` in `sort_pairs` order: a counting sort on
+/// the first body, then each first body's few pairs sorted on the second. The pairs are
+/// distinct, so this is the one sorted order; a comparison sort of a rain's thousands of
+/// pairs took 2 % of its instructions.
 fn sorted_by_first_body(
     pairs: &[BodyPair],
     body_count: usize,
     starts: &mut Vec<usize>,
-) -> Vec<BodyPair> {
+    sorted: &mut Vec<BodyPair>,
+) {
     starts.clear();
     starts.resize(body_count + 1, 0);
     for pair in pairs {
@@ -146,7 +148,9 @@ fn sorted_by_first_body(
     for k in 0..body_count {
         starts[k + 1] += starts[k];
     }
-    let mut sorted = pairs.to_vec(); // every place is written below
+    // Every place is written below.
+    sorted.clear();
+    sorted.extend_from_slice(pairs);
     for pair in pairs {
         let next = &mut starts[pair.a.index()];
         sorted[*next] = *pair;
@@ -158,5 +162,4 @@ fn sorted_by_first_body(
         sort_pairs(&mut sorted[run_start..run_end]);
         run_start = run_end;
     }
-    sorted
 }

@@ -105,9 +105,9 @@ impl UniformGrid {
 }
 
 impl BroadPhase for UniformGrid {
-    fn find_pairs(&mut self, proxies: &[Proxy]) -> Vec<BodyPair> {
+    fn fill_pairs(&mut self, proxies: &[Proxy], pairs: &mut Vec<BodyPair>) {
         self.rebuild(proxies);
-        let mut pairs = Vec::new();
+        pairs.clear();
         let mut test = |i: u32, j: u32| {
             if i != j && wants_pair(&proxies[i as usize], &proxies[j as usize]) {
                 pairs.push(BodyPair::new(i as usize, j as usize));
@@ -126,9 +126,8 @@ impl BroadPhase for UniformGrid {
             }
         }
         // A pair sharing several cells is found once per cell.
-        sort_pairs(&mut pairs);
+        sort_pairs(pairs);
         pairs.dedup();
-        pairs
     }
 }
 

@@ -1,0 +1,105 @@
+//! A step reuses the memory of the steps before it: once a scene's lists (pairs, manifolds,
+//! contacts, solver slots, colours) have grown to the most it needs, stepping allocates
+//! nothing, on one thread or several. Allocations are counted by this binary's global
+//! allocator, on every thread, so the narrow phase's worker threads count too. The binary
+//! holds one test, so that no other test allocates while it counts.
+//!
+//! The steps run inside a rayon pool, as its tasks. Called from a thread outside the pool
+//! (the viewer's simulation thread), every step hands its first task to the pool through
+//! rayon's injector queue, which allocates a block of 63 slots as it fills one: one
+//! allocation in rayon per 63 threaded steps, which this test does not count.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+use rayon::ThreadPoolBuilder;
+use rigid::physics::World;
+use rigid::scene;
+
+/// The system allocator, counting the allocations and reallocations made while `COUNTING`.
+struct CountingAllocator;
+
+static COUNTING: AtomicBool = AtomicBool::new(false);
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+fn count() {
+    if COUNTING.load(Ordering::Relaxed) {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+// SAFETY: every call is passed on to the system allocator unchanged.
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count();
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count();
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: CountingAllocator = CountingAllocator;
+
+/// Allocations made while `steps` steps of `dt` run.
+fn allocations_over(world: &mut World, dt: f64, steps: usize) -> usize {
+    ALLOCATIONS.store(0, Ordering::Relaxed);
+    COUNTING.store(true, Ordering::Relaxed);
+    for _ in 0..steps {
+        world.step(dt);
+    }
+    COUNTING.store(false, Ordering::Relaxed);
+    ALLOCATIONS.load(Ordering::Relaxed)
+}
+
+/// A built-in scene after `warm_up` s, with sleeping on or off.
+fn warmed_up(name: &str, sleeping: bool, warm_up: f64) -> (World, f64) {
+    let scene = scene::load(name).unwrap();
+    let mut world = scene.build_world().unwrap();
+    world.settings.sleep.enabled = sleeping;
+    let dt = scene.settings.dt;
+    for _ in 0..(warm_up / dt).round() as usize {
+        world.step(dt);
+    }
+    (world, dt)
+}
+
+#[test]
+fn steps_after_the_lists_have_grown_allocate_nothing() {
+    // The pyramid's 210 boxes kept awake: every stage runs on a full resting load, the
+    // manifolds carried from step to step. The bounce scene's elastic ball keeps hitting
+    // the floor (a period of 1.28 s) after the other four have come to rest and fallen
+    // asleep: a manifold is made and dropped at every bounce. Each runs first until its
+    // load is at its peak, then for longer than a bounce.
+    let cases = [("pyramid", false, 2.0, 2.0), ("bounce", true, 8.0, 3.0)];
+    let mut failures = Vec::new();
+    for threads in [1, 2] {
+        let pool = ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        for (name, sleeping, warm_up, measured) in cases {
+            let (allocations, steps, awake) = pool.install(|| {
+                let (mut world, dt) = warmed_up(name, sleeping, warm_up);
+                let steps = (measured / dt).round() as usize;
+                let awake = world.awake_count();
+                (allocations_over(&mut world, dt, steps), steps, awake)
+            });
+            let case =
+                format!("{name}, {threads} threads: {allocations} allocations in {steps} steps");
+            println!("{case}, {awake} awake");
+            assert!(awake > 0, "{name}: nothing awake to measure");
+            if allocations != 0 {
+                failures.push(case);
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:?}");
+}
