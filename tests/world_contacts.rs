@@ -25,6 +25,21 @@ fn run(world: &mut World, seconds: f64) {
     }
 }
 
+/// How far a contact spring of `hertz` sinks under its own effective mass's weight: g/ω².
+fn spring_deflection(hertz: f64) -> f64 {
+    let omega = 2.0 * std::f64::consts::PI * hertz;
+    9.81 / (omega * omega)
+}
+
+/// That `case`'s top box sank as far as `predicted`, to 3 %.
+fn assert_sank_as_predicted(case: &str, sink: f64, predicted: f64) {
+    println!("{case}: top sank {sink:.4e} m, predicted {predicted:.4e}");
+    assert!(
+        (sink / predicted - 1.0).abs() < 0.03,
+        "{case}: {sink} against {predicted}"
+    );
+}
+
 #[test]
 fn a_dropped_box_comes_to_rest_on_the_ground() {
     let mut world = world();
@@ -174,8 +189,7 @@ fn rolled(radius: f64, hertz: f64, dt: f64) -> (f64, f64, f64) {
         world.step(dt);
     }
     let body = world.body(ball);
-    let omega = 2.0 * std::f64::consts::PI * hertz;
-    let deflection = 9.81 / (omega * omega);
+    let deflection = spring_deflection(hertz);
     let speed_error = body.velocity().x / (5.0 / 7.0 * v0) - 1.0;
     (radius - body.position.y, deflection, speed_error)
 }
@@ -247,13 +261,9 @@ fn a_stack_sinks_by_the_sum_of_its_contacts_static_deflections() {
         run(&mut world, 10.0);
         let top = *boxes.last().unwrap();
         let sink = (height as f64 - 0.5) - world.body(top).position.y;
-        let omega = 2.0 * std::f64::consts::PI * world.settings.solver.contact_hertz;
-        let predicted = (height * height) as f64 * 9.81 / (omega * omega);
-        println!("stack of {height}: top sank {sink:.4e} m, n² g/ω² {predicted:.4e}");
-        assert!(
-            (sink / predicted - 1.0).abs() < 0.03,
-            "{height}: {sink} against {predicted}"
-        );
+        let deflection = spring_deflection(world.settings.solver.contact_hertz);
+        let predicted = (height * height) as f64 * deflection;
+        assert_sank_as_predicted(&format!("stack of {height}"), sink, predicted);
     }
 }
 
@@ -282,13 +292,9 @@ fn a_heavy_box_on_a_light_one_sinks_by_both_contacts_static_deflections() {
         let top = world.add_body(top).unwrap();
         run(&mut world, 10.0);
         let sink = 1.5 - world.body(top).position.y;
-        let omega = 2.0 * std::f64::consts::PI * world.settings.solver.contact_hertz;
-        let predicted = 2.0 * (ratio + 1.0) * 9.81 / (omega * omega);
-        println!("1:{ratio}: top sank {sink:.4e} m, 2 (M + m)/m g/ω² {predicted:.4e}");
-        assert!(
-            (sink / predicted - 1.0).abs() < 0.03,
-            "1:{ratio}: {sink} against {predicted}"
-        );
+        let deflection = spring_deflection(world.settings.solver.contact_hertz);
+        let predicted = 2.0 * (ratio + 1.0) * deflection;
+        assert_sank_as_predicted(&format!("mass ratio 1:{ratio}"), sink, predicted);
     }
 }
 
