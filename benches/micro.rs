@@ -5,7 +5,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{DMat3, DQuat, DVec3};
-use rigid::physics::broad_phase::{AabbTree, SplitBroadPhase, SweepAndPrune};
+use rigid::physics::collision::broad_phase::{AabbTree, SplitBroadPhase, SweepAndPrune};
 use rigid::physics::{
     Aabb, BroadPhase, BroadPhaseKind, PosedShape, Proxy, Shape, generate_contacts, gjk_distance,
     penetration,

@@ -5,7 +5,9 @@ mod common;
 use common::*;
 use glam::{DMat3, DVec3};
 use proptest::prelude::*;
-use rigid::physics::broad_phase::{BruteForce, SplitBroadPhase, SweepAndPrune, UniformGrid};
+use rigid::physics::collision::broad_phase::{
+    BruteForce, SplitBroadPhase, SweepAndPrune, UniformGrid,
+};
 use rigid::physics::{
     Aabb, BroadPhase, BroadPhaseKind, Motion, PosedShape, Proxy, Shape, SupportMap,
 };

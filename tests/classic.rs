@@ -2,7 +2,7 @@
 //! C8 elastic pair, C11 tunnelling, resting contact; C2 and C8 with Algorithm 4 too.
 
 use glam::DVec3;
-use rigid::physics::classic::MainLoop;
+use rigid::physics::solver::classic::MainLoop;
 use rigid::physics::{
     BodyDesc, BodyId, EnvironmentForce, Material, Pipeline, Shape, World, WorldSettings,
 };

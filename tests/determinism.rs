@@ -244,7 +244,7 @@ fn the_number_of_threads_does_not_change_a_bit() {
 /// and how many contact points the last step solved.
 fn rain_state(count: usize, steps: usize, threads: usize) -> (Vec<[f64; 12]>, usize) {
     on_threads(threads, || {
-        let mut world = rigid::bench::rain::rain_world(count, Default::default());
+        let mut world = rigid::scene::rain_world(count, Default::default());
         for _ in 0..steps {
             world.step(1.0 / 60.0);
         }
@@ -269,12 +269,12 @@ fn rain_state(count: usize, steps: usize, threads: usize) -> (Vec<[f64; 12]>, us
 }
 
 /// A pile big enough for the contact solve to be coloured and spread over the threads
-/// (`physics::contact_colors`) ends bit for bit where it does on one thread.
+/// (`physics::solver::contact_colors`) ends bit for bit where it does on one thread.
 #[test]
 fn the_parallel_contact_solve_does_not_change_a_bit() {
     let (single, points) = rain_state(1000, 120, 1);
     assert!(
-        points >= rigid::physics::contact_colors::MIN_COLORED_CONTACTS,
+        points >= rigid::physics::solver::contact_colors::MIN_COLORED_CONTACTS,
         "only {points} contact points: the solve was not coloured"
     );
     for threads in [2, 4] {

@@ -3,14 +3,14 @@
 //! running backwards, forces at points and the environmental force list.
 
 use glam::{DQuat, DVec3};
-use rigid::physics::integrate::orthonormality_error;
+use rigid::physics::dynamics::integrate::orthonormality_error;
 use rigid::physics::{BodyDesc, BodyId, EnvironmentForce, Integrator, Shape, World, WorldSettings};
 
 const G: f64 = 9.81;
 
 /// The world integrates each step in this many substeps of dt / SUBSTEPS.
 fn substeps() -> usize {
-    rigid::physics::soft_solver::SoftSolverSettings::default().substeps as usize
+    rigid::physics::solver::soft::SoftSolverSettings::default().substeps as usize
 }
 
 fn world_with(integrator: Integrator, forces: Vec<EnvironmentForce>) -> World {

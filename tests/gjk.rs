@@ -7,8 +7,8 @@ use std::sync::Arc;
 
 use glam::{DMat3, DQuat, DVec3};
 use proptest::prelude::*;
-use rigid::physics::epa::{signed_distance, signed_distance_within};
-use rigid::physics::gjk::{EXACT, GJK_MAX_ITERATIONS, SupportMap};
+use rigid::physics::geometry::epa::{signed_distance, signed_distance_within};
+use rigid::physics::geometry::gjk::{EXACT, GJK_MAX_ITERATIONS, SupportMap};
 use rigid::physics::{ConvexHull, PosedShape, Shape, gjk_distance, gjk_intersects, penetration};
 
 #[derive(Clone, Debug)]

@@ -48,7 +48,7 @@ fn headless(args: &[&str]) -> Output {
 /// y_n = y0 − g h² n(n+1)/2: the velocity is updated first, then the position with it.
 /// The world runs each step of `dt` as `substeps` substeps of dt / substeps.
 fn euler_height(dt: f64, steps: u64) -> f64 {
-    let substeps = rigid::physics::soft_solver::SoftSolverSettings::default().substeps as u64;
+    let substeps = rigid::physics::solver::soft::SoftSolverSettings::default().substeps as u64;
     let (h, n) = (dt / substeps as f64, steps * substeps);
     Y0 - G * h * h * (n * (n + 1)) as f64 / 2.0
 }

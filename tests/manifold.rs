@@ -7,7 +7,7 @@ use std::f64::consts::FRAC_PI_4;
 use common::*;
 use glam::{DMat3, DQuat, DVec3};
 use proptest::prelude::*;
-use rigid::physics::contact::ContactKind;
+use rigid::physics::collision::contact::ContactKind;
 use rigid::physics::{
     BodyId, Motion, PosedShape, Shape, contact_manifold, generate_contacts, gjk_distance,
     signed_distance,

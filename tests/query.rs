@@ -5,7 +5,7 @@ mod common;
 use common::*;
 use glam::{DMat3, DQuat, DVec3};
 use proptest::prelude::*;
-use rigid::physics::query::ray_cast_shape;
+use rigid::physics::ray_cast_shape;
 use rigid::physics::{BodyDesc, PosedShape, Shape, World, gjk_distance};
 
 const TOL: f64 = 1e-9;

@@ -3,7 +3,7 @@
 //! sphere pairs. The engine's own narrow phase is tested elsewhere.
 
 use glam::{DQuat, DVec3};
-use rigid::physics::soft_solver::{
+use rigid::physics::solver::soft::{
     self, ContactInput, SoftScratch, SoftSolverSettings, StepContext, WarmImpulse,
 };
 use rigid::physics::{BodyDesc, EnvironmentForce, Integrator, Material, RigidBody, Shape};
@@ -148,7 +148,7 @@ impl Sim {
         let awake: Vec<u32> = (0..self.bodies.len() as u32)
             .filter(|&i| self.bodies[i as usize].is_awake())
             .collect();
-        soft_solver::step(&mut self.bodies, &awake, &contacts, &ctx, &mut self.scratch);
+        soft::step(&mut self.bodies, &awake, &contacts, &ctx, &mut self.scratch);
         self.warm = keys.into_iter().zip(self.scratch.impulses()).collect();
     }
 }

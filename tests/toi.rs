@@ -5,7 +5,7 @@ mod common;
 use common::*;
 use glam::{DMat3, DQuat, DVec3};
 use proptest::prelude::*;
-use rigid::physics::integrate::integrate_body;
+use rigid::physics::dynamics::integrate::integrate_body;
 use rigid::physics::{
     Aabb, BodyDesc, Integrator, Motion, RigidBody, Shape, bisection_rewind,
     conservative_advancement, gjk_distance, swept_aabb,
@@ -196,7 +196,7 @@ proptest! {
         let mut mover = body(Shape::cuboid(DVec3::new(0.1, 0.05, 0.2)), start + DVec3::Y * 2.5, rotation_from(r), Motion::Dynamic);
         mover.set_velocity(v);
         mover.set_angular_velocity(w);
-        let motion = rigid::physics::toi::BallisticMotion::of_body(&mover);
+        let motion = rigid::physics::solver::toi::BallisticMotion::of_body(&mover);
         let shape_at = |t: f64| {
             let (origin, rotation) = motion.pose_at(t);
             rigid::physics::PosedShape::new(&mover.shape, origin, rotation)

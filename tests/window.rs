@@ -1,5 +1,6 @@
-//! The viewer in a real window under a virtual X server (Xvfb). Skipped, with a message,
-//! where `xvfb-run` is not installed (`apt-get install xvfb xauth xdotool`).
+//! The viewer in a real window under a virtual X server (Xvfb). Needs `xvfb-run` and
+//! `xdotool` (`cargo xtask setup` installs them): without them the tests fail under CI and
+//! are skipped, loudly, elsewhere.
 
 #![cfg(feature = "viewer")]
 
@@ -9,7 +10,7 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::tools::have;
+use common::tools::{missing, tools_present};
 
 const XVFB_SCREEN: &str = "-screen 0 1280x720x24";
 
@@ -63,8 +64,7 @@ fn assert_rich_screenshot(output: &std::process::Output, path: &Path) -> image::
 
 #[test]
 fn viewer_opens_runs_and_saves_a_screenshot() {
-    if !have("xvfb-run") {
-        eprintln!("skipped: xvfb-run is not installed");
+    if !tools_present("the window test", &missing(&["xvfb-run"])) {
         return;
     }
     let shot = screenshot_path("window.png");
@@ -78,8 +78,7 @@ fn viewer_opens_runs_and_saves_a_screenshot() {
 
 #[test]
 fn viewer_survives_resizing_and_unmapping() {
-    if !have("xvfb-run") || !have("xdotool") {
-        eprintln!("skipped: xvfb-run or xdotool is not installed");
+    if !tools_present("the window test", &missing(&["xvfb-run", "xdotool"])) {
         return;
     }
     let shot = screenshot_path("window_resized.png");

@@ -13,11 +13,11 @@ use glam::DMat3;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::physics::body::RigidBody;
-use crate::physics::broad_phase::{BroadPhaseKind, Proxy};
-use crate::physics::contact_cache::ContactCache;
-use crate::physics::forces::EnvironmentForce;
-use crate::physics::manifold_memory::ManifoldMemory;
+use crate::physics::collision::broad_phase::{BroadPhaseKind, Proxy};
+use crate::physics::collision::contact_cache::ContactCache;
+use crate::physics::collision::manifold_memory::ManifoldMemory;
+use crate::physics::dynamics::body::RigidBody;
+use crate::physics::dynamics::forces::EnvironmentForce;
 use crate::physics::world::{Fault, MAX_BODIES, WorldSettings};
 
 /// Raised when the layout of `WorldSnapshot` changes.

@@ -21,21 +21,21 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::physics::aabb::Aabb;
-use crate::physics::awake_set::AwakeSet;
-use crate::physics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
-use crate::physics::broad_phase::{BodyPair, BroadPhaseKind, Proxy, SplitBroadPhase};
-use crate::physics::classic::{self, ClassicContext, ClassicReport, ClassicSettings};
-use crate::physics::closing_speed::Clusters;
-use crate::physics::contact::ContactManifold;
-use crate::physics::contact_cache::ContactCache;
-use crate::physics::forces::{self, EnvironmentForce};
-use crate::physics::integrate::{self, Integrator};
-use crate::physics::islands::{self, IslandScratch, SleepSettings};
-use crate::physics::manifold_memory::ManifoldMemory;
-use crate::physics::narrow_phase::{self, NarrowScratch};
+use crate::physics::collision::broad_phase::{BodyPair, BroadPhaseKind, Proxy, SplitBroadPhase};
+use crate::physics::collision::closing_speed::Clusters;
+use crate::physics::collision::contact::ContactManifold;
+use crate::physics::collision::contact_cache::ContactCache;
+use crate::physics::collision::manifold_memory::ManifoldMemory;
+use crate::physics::collision::narrow_phase::{self, NarrowScratch};
+use crate::physics::dynamics::awake_set::AwakeSet;
+use crate::physics::dynamics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
+use crate::physics::dynamics::forces::{self, EnvironmentForce};
+use crate::physics::dynamics::integrate::{self, Integrator};
+use crate::physics::dynamics::islands::{self, IslandScratch, SleepSettings};
+use crate::physics::geometry::aabb::Aabb;
 use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
-use crate::physics::soft_solver::{
+use crate::physics::solver::classic::{self, ClassicContext, ClassicReport, ClassicSettings};
+use crate::physics::solver::soft::{
     self, ContactInput, SoftScratch, SoftSolverSettings, StepContext,
 };
 use crate::physics::stage_times::{StageTimes, Stopwatch};
@@ -56,7 +56,7 @@ pub struct WorldSettings {
 /// How contacts are handled; switchable between steps.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Pipeline {
-    /// Substepped soft-constraint solver with warm starting and friction (see `soft_solver`).
+    /// Substepped soft-constraint solver with warm starting and friction (see `solver::soft`).
     #[default]
     Soft,
     /// The report's method: time-ordered impacts, bisection rewind, Newton impulses
@@ -512,7 +512,7 @@ impl World {
         (self.broad_phase).fill_pairs(&self.proxies, awake, idle_changed, &mut self.pairs);
     }
 
-    /// Forces, integration and contacts together, in substeps (see `soft_solver`).
+    /// Forces, integration and contacts together, in substeps (see `solver::soft`).
     /// The soft pipeline's step; returns the seconds it spent integrating.
     fn solve(&mut self, dt: f64) -> f64 {
         let mut inputs = std::mem::take(&mut self.solver_inputs);
@@ -526,7 +526,7 @@ impl World {
             timed: self.stage_timing,
         };
         let awake = self.awake_set.awake(&self.bodies);
-        let step = soft_solver::step(
+        let step = soft::step(
             &mut self.bodies,
             awake,
             &inputs,

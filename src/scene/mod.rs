@@ -49,6 +49,7 @@ mod expand;
 mod file;
 mod material_ref;
 mod parse;
+mod rain;
 mod shapes;
 mod validate;
 
@@ -61,6 +62,7 @@ pub use file::{
 };
 pub use material_ref::MaterialRef;
 pub use parse::parse;
+pub use rain::rain_world;
 pub use validate::{DT_RANGE, MAX_BODIES, MAX_FRICTION};
 
 /// The scene a viewer opens when told nothing else.

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use glam::DQuat;
 
-use crate::physics::shape::MAX_EXTENT;
+use crate::physics::geometry::shape::MAX_EXTENT;
 use crate::physics::{Compound, CompoundPart, Pose, Shape};
 use crate::scene::error::FieldError;
 use crate::scene::file::{PartSpec, Rotation, ShapeSpec};

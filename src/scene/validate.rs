@@ -7,7 +7,7 @@ use std::ops::RangeInclusive;
 use glam::DVec3;
 
 use crate::physics::Material;
-use crate::physics::shape::{MAX_EXTENT, MIN_EXTENT};
+use crate::physics::geometry::shape::{MAX_EXTENT, MIN_EXTENT};
 use crate::scene::error::{FieldError, SceneError};
 use crate::scene::file::{Camera, ForceSpec, Scene};
 

@@ -9,7 +9,7 @@ use web_time::{Duration, Instant};
 
 use glam::{DVec3, Vec3};
 
-use crate::physics::broad_phase::UniformGrid;
+use crate::physics::collision::broad_phase::UniformGrid;
 use crate::physics::{
     Aabb, BodyId, BroadPhaseKind, EnvironmentForce, Fault, Material, Motion, RigidBody, World,
 };

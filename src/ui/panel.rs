@@ -56,7 +56,7 @@ impl Default for Panel {
             integrator: Integrator::default(),
             pipeline: Pipeline::default(),
             broad_phase: BroadPhaseKind::default(),
-            substeps: crate::physics::soft_solver::SoftSolverSettings::default().substeps,
+            substeps: crate::physics::solver::soft::SoftSolverSettings::default().substeps,
             sleeping: true,
             synced_generation: None,
             spawned: 0,

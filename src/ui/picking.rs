@@ -5,7 +5,7 @@
 use glam::{DMat3, DQuat, Vec3};
 
 use crate::physics::PosedShape;
-use crate::physics::query::ray_cast_shape;
+use crate::physics::ray_cast_shape;
 use crate::render::Ray;
 use crate::sim::Snapshot;
 use crate::sim::snapshot::BodyPose;

@@ -1,0 +1,19 @@
+//! Every pair tested: the report's Algorithm 2 in a double loop. O(n²), the reference.
+
+use crate::physics::collision::broad_phase::{BodyPair, BroadPhase, Proxy, wants_pair};
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BruteForce;
+
+impl BroadPhase for BruteForce {
+    fn fill_pairs(&mut self, proxies: &[Proxy], pairs: &mut Vec<BodyPair>) {
+        pairs.clear();
+        for (i, p) in proxies.iter().enumerate() {
+            for (j, q) in proxies.iter().enumerate().skip(i + 1) {
+                if wants_pair(p, q) {
+                    pairs.push(BodyPair::new(i, j));
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,145 @@
+//! Axis-aligned bounding boxes (the report's Algorithms 1 and 2), tight at any orientation.
+//!
+//! A box is tight when each of its six faces touches the shape. For any convex shape the
+//! extent along a world axis is the support along that axis, so hulls and compounds use
+//! their support function; the primitives use closed forms that give the same numbers faster.
+
+use glam::{DMat3, DVec3};
+use serde::{Deserialize, Serialize};
+
+use crate::physics::geometry::shape::Shape;
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Aabb {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl Aabb {
+    /// The empty box: the identity of `union`.
+    pub const EMPTY: Aabb = Aabb {
+        min: DVec3::splat(f64::INFINITY),
+        max: DVec3::splat(f64::NEG_INFINITY),
+    };
+
+    pub fn new(min: DVec3, max: DVec3) -> Self {
+        Aabb { min, max }
+    }
+
+    pub fn from_center_half_extents(center: DVec3, half_extents: DVec3) -> Self {
+        Aabb::new(center - half_extents, center + half_extents)
+    }
+
+    /// The tight box of `shape` placed with its own origin at `origin` and its axes given by
+    /// the columns of `rotation`.
+    pub fn of_shape(shape: &Shape, origin: DVec3, rotation: DMat3) -> Self {
+        let half = match shape {
+            Shape::Sphere { radius } => DVec3::splat(*radius),
+            Shape::Cuboid { half_extents } => abs_mat(rotation) * *half_extents,
+            Shape::Capsule {
+                half_height,
+                radius,
+            } => rotation.y_axis.abs() * *half_height + DVec3::splat(*radius),
+            Shape::Cylinder {
+                half_height,
+                radius,
+            } => cylinder_half_extents(rotation.y_axis, *half_height, *radius),
+            Shape::ConvexHull(_) | Shape::Compound(_) => {
+                return support_box(shape, origin, rotation);
+            }
+        };
+        Aabb::from_center_half_extents(origin, half)
+    }
+
+    /// Grown by `margin` on every side (fat boxes let a broad phase skip updates while a body
+    /// moves less than the margin).
+    pub fn fattened(&self, margin: f64) -> Self {
+        Aabb::new(
+            self.min - DVec3::splat(margin),
+            self.max + DVec3::splat(margin),
+        )
+    }
+
+    /// The union of this box and the same box moved by `displacement`: it holds every point
+    /// the shape sweeps while translating.
+    pub fn swept(&self, displacement: DVec3) -> Self {
+        self.union(&Aabb::new(self.min + displacement, self.max + displacement))
+    }
+
+    pub fn union(&self, other: &Aabb) -> Self {
+        Aabb::new(self.min.min(other.min), self.max.max(other.max))
+    }
+
+    /// The report's Algorithm 2: boxes overlap unless one axis separates them. Touching
+    /// boxes overlap.
+    pub fn overlaps(&self, other: &Aabb) -> bool {
+        self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
+    }
+
+    pub fn contains_point(&self, point: DVec3) -> bool {
+        self.min.cmple(point).all() && point.cmple(self.max).all()
+    }
+
+    pub fn contains(&self, other: &Aabb) -> bool {
+        self.min.cmple(other.min).all() && other.max.cmple(self.max).all()
+    }
+
+    pub fn center(&self) -> DVec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    pub fn half_extents(&self) -> DVec3 {
+        0.5 * (self.max - self.min)
+    }
+
+    /// Sum of the face areas; the usual cost measure of bounding volume trees.
+    pub fn surface_area(&self) -> f64 {
+        let d = (self.max - self.min).max(DVec3::ZERO);
+        2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
+    }
+
+    /// Slab test: the entry parameter t in [0, max_t] of the ray `origin + t * direction`,
+    /// or None if it misses. A ray starting inside enters at t = 0.
+    pub fn ray_entry(&self, origin: DVec3, direction: DVec3, max_t: f64) -> Option<f64> {
+        let mut t_enter = 0.0_f64;
+        let mut t_exit = max_t;
+        for axis in 0..3 {
+            let (o, d) = (origin[axis], direction[axis]);
+            let (lo, hi) = (self.min[axis], self.max[axis]);
+            if d.abs() < f64::MIN_POSITIVE {
+                if o < lo || o > hi {
+                    return None;
+                }
+                continue;
+            }
+            let (t0, t1) = ((lo - o) / d, (hi - o) / d);
+            t_enter = t_enter.max(t0.min(t1));
+            t_exit = t_exit.min(t0.max(t1));
+            if t_enter > t_exit {
+                return None;
+            }
+        }
+        Some(t_enter)
+    }
+}
+
+/// Component-wise absolute value of a matrix: |R| h bounds a rotated box exactly.
+fn abs_mat(m: DMat3) -> DMat3 {
+    DMat3::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs())
+}
+
+/// A cylinder with unit axis `axis`: along world axis i the caps reach h |aᵢ| and the rim
+/// disc reaches r √(1 − aᵢ²).
+fn cylinder_half_extents(axis: DVec3, half_height: f64, radius: f64) -> DVec3 {
+    let rim = (DVec3::ONE - axis * axis).max(DVec3::ZERO);
+    axis.abs() * half_height + DVec3::new(rim.x.sqrt(), rim.y.sqrt(), rim.z.sqrt()) * radius
+}
+
+/// Extents from the support function along ±x, ±y, ±z (exact for any convex shape).
+fn support_box(shape: &Shape, origin: DVec3, rotation: DMat3) -> Aabb {
+    let local_axes = rotation.transpose();
+    let reach = |world_dir: DVec3| world_dir.dot(rotation * shape.support(local_axes * world_dir));
+    let max = DVec3::new(reach(DVec3::X), reach(DVec3::Y), reach(DVec3::Z));
+    let min = -DVec3::new(reach(-DVec3::X), reach(-DVec3::Y), reach(-DVec3::Z));
+    Aabb::new(origin + min, origin + max)
+}

@@ -1,0 +1,269 @@
+//! The soft solver's view of the bodies: the momenta and poses of the awake bodies in one
+//! dense array, gathered from the bodies before a pass over the contacts and written back
+//! after it. Contacts then address two small neighbouring records by slot instead of two
+//! large bodies by index, and need no "does it move" test on every impulse.
+//!
+//! Slot 0 stands for every body that does not move in this step (static, asleep): zero
+//! momenta and inverse mass, never written.
+//!
+//! The slots are padded with copies of slot 0 to a power of two, so that a pass can keep
+//! every slot it is handed within them with one mask (`SharedBodies::get`) instead of a
+//! bounds check and its panic path: about six per contact point in every pass, 6 % of the
+//! pyramid's instructions.
+
+use std::marker::PhantomData;
+
+use glam::DMat3;
+
+use crate::physics::dynamics::body::RigidBody;
+use crate::physics::solver::lanes::{F64x4, LaneVector, Lanes};
+
+/// The part of a body that a pass over the contacts reads and changes, as lanes (see
+/// `lanes`): matrices by columns. What every pass reads comes first.
+#[derive(Clone, Copy, Debug)]
+pub struct SolverBody {
+    pub linear_momentum: F64x4,
+    pub angular_momentum: F64x4,
+    pub inv_mass: f64,
+    pub position: F64x4,
+    pub orientation: [F64x4; 3],
+    /// The linear and angular impulse the body's contacts give it at the next warm start.
+    pub warm_start: [F64x4; 2],
+    /// The momenta before this substep's warm start: what the contacts have added since is
+    /// the next substep's warm start (`end_substep`).
+    pub before_contacts: [F64x4; 2],
+}
+
+impl SolverBody {
+    /// Writes the momenta the contacts changed back to the body.
+    #[inline(always)]
+    fn write_momenta(&self, body: &mut RigidBody) {
+        body.linear_momentum = self.linear_momentum.to_vec3();
+        body.angular_momentum = self.angular_momentum.to_vec3();
+    }
+}
+
+/// The slot that every body which does not move shares.
+pub const FIXED_SLOT: u32 = 0;
+
+const FIXED: SolverBody = SolverBody {
+    linear_momentum: F64x4::ZERO,
+    angular_momentum: F64x4::ZERO,
+    inv_mass: 0.0,
+    position: F64x4::ZERO,
+    orientation: [F64x4::ZERO; 3],
+    warm_start: [F64x4::ZERO; 2],
+    before_contacts: [F64x4::ZERO; 2],
+};
+
+/// Slots of the awake bodies, kept between steps so that no step allocates.
+#[derive(Clone, Debug, Default)]
+pub struct SolverBodies {
+    /// Slot k ≥ 1 holds awake body `awake[k − 1]`; then padding (see the module comment).
+    pub slots: Vec<SolverBody>,
+    awake: Vec<u32>,
+    /// The slot of each body index, `FIXED_SLOT` for bodies without one. Only the entries of
+    /// the awake bodies are ever set, and they are cleared again by `release`, so idle
+    /// bodies cost nothing here.
+    slot_of: Vec<u32>,
+}
+
+impl SolverBodies {
+    /// Gives each of the `awake` bodies (indices into `bodies`) a slot and gathers it.
+    pub fn assign(&mut self, bodies: &[RigidBody], awake: &[u32]) {
+        if self.slot_of.len() < bodies.len() {
+            self.slot_of.resize(bodies.len(), FIXED_SLOT);
+        }
+        self.awake.clear();
+        self.awake.extend_from_slice(awake);
+        self.slots.clear();
+        self.slots.push(FIXED);
+        for (k, &index) in awake.iter().enumerate() {
+            self.slot_of[index as usize] = k as u32 + 1;
+            self.slots.push(gathered(&bodies[index as usize]));
+        }
+        self.slots
+            .resize(self.slots.len().next_power_of_two(), FIXED);
+    }
+
+    /// The slots in use: the fixed one and one per awake body.
+    pub fn count(&self) -> usize {
+        self.awake.len() + 1
+    }
+
+    /// Forgets the slots of this step.
+    pub fn release(&mut self) {
+        for &index in &self.awake {
+            self.slot_of[index as usize] = FIXED_SLOT;
+        }
+    }
+
+    pub fn slot_of(&self, index: usize) -> u32 {
+        self.slot_of[index]
+    }
+
+    /// Starts a substep: `kick` changes the momenta of each awake body (the forces; it gets
+    /// the body's place in `awake`), then the slot reads them and applies the warm start,
+    /// remembering the momenta before it. One loop over the bodies, not three.
+    #[inline(always)]
+    pub fn kick_and_warm_start(
+        &mut self,
+        bodies: &mut [RigidBody],
+        mut kick: impl FnMut(usize, &mut RigidBody),
+    ) {
+        for (k, (slot, &index)) in self.slots[1..].iter_mut().zip(&self.awake).enumerate() {
+            let body = &mut bodies[index as usize];
+            kick(k, body);
+            slot.before_contacts = [
+                F64x4::from_vec3(body.linear_momentum),
+                F64x4::from_vec3(body.angular_momentum),
+            ];
+            let [linear, angular] = slot.warm_start;
+            slot.linear_momentum = slot.before_contacts[0] + linear;
+            slot.angular_momentum = slot.before_contacts[1] + angular;
+        }
+    }
+
+    /// Writes the momenta back to each awake body, lets `drift` move it, and reads its new
+    /// pose: one loop over the bodies.
+    #[inline(always)]
+    pub fn drift(&mut self, bodies: &mut [RigidBody], mut drift: impl FnMut(&mut RigidBody)) {
+        for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
+            let body = &mut bodies[index as usize];
+            slot.write_momenta(body);
+            drift(body);
+            slot.position = F64x4::from_vec3(body.position);
+            slot.orientation = columns(&body.orientation);
+        }
+    }
+
+    /// Ends a substep: writes the momenta back to the bodies and, when another substep
+    /// follows, takes what the contacts gave each body as its warm start. Every contact's
+    /// final impulse is its warm start plus what the passes added, and the momenta changed
+    /// by nothing else since `kick_and_warm_start`: so the change in momenta is the sum of
+    /// the final impulses, found per body rather than per contact (which cost two more body
+    /// updates per contact point in every relax pass).
+    pub fn end_substep(&mut self, bodies: &mut [RigidBody], warm_start_next: bool) {
+        for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
+            if warm_start_next {
+                let [linear, angular] = slot.before_contacts;
+                slot.warm_start = [
+                    slot.linear_momentum - linear,
+                    slot.angular_momentum - angular,
+                ];
+            }
+            let body = &mut bodies[index as usize];
+            slot.write_momenta(body);
+        }
+    }
+
+    /// Writes the momenta the contacts changed back to the bodies.
+    pub fn scatter(&self, bodies: &mut [RigidBody]) {
+        for (slot, &index) in self.slots[1..].iter().zip(&self.awake) {
+            let body = &mut bodies[index as usize];
+            slot.write_momenta(body);
+        }
+    }
+}
+
+fn gathered(body: &RigidBody) -> SolverBody {
+    SolverBody {
+        linear_momentum: F64x4::from_vec3(body.linear_momentum),
+        angular_momentum: F64x4::from_vec3(body.angular_momentum),
+        inv_mass: body.inv_mass,
+        position: F64x4::from_vec3(body.position),
+        orientation: columns(&body.orientation),
+        warm_start: [F64x4::ZERO; 2],
+        before_contacts: [F64x4::ZERO; 2],
+    }
+}
+
+fn columns(matrix: &DMat3) -> [F64x4; 3] {
+    [0, 1, 2].map(|k| F64x4::from_vec3(matrix.col(k)))
+}
+
+/// The solver bodies, open to the contacts of one colour on several threads at once.
+///
+/// Contacts of one colour share no moving body (`contact_colors`), so while a colour is
+/// solved each slot but `FIXED_SLOT` is read and written by one thread only, and
+/// `FIXED_SLOT` is only read. That is the whole safety argument for the raw pointer below:
+/// no slot is ever reachable from two threads while one of them writes it.
+#[derive(Clone, Copy)]
+pub struct SharedBodies<'a> {
+    slots: *mut SolverBody,
+    /// The number of slots less one; the number is a power of two.
+    mask: usize,
+    _borrow: PhantomData<&'a mut [SolverBody]>,
+}
+
+// SAFETY: see the type's comment; the colouring keeps threads on disjoint slots.
+unsafe impl Send for SharedBodies<'_> {}
+unsafe impl Sync for SharedBodies<'_> {}
+
+impl<'a> SharedBodies<'a> {
+    /// `slots` as `SolverBodies` pads them: a power of two of them.
+    pub fn new(slots: &'a mut [SolverBody]) -> Self {
+        assert!(slots.len().is_power_of_two(), "{} slots", slots.len());
+        SharedBodies {
+            slots: slots.as_mut_ptr(),
+            mask: slots.len() - 1,
+            _borrow: PhantomData,
+        }
+    }
+
+    /// The slot `slot` within the slots (every slot a contact holds is: `SolverBodies`
+    /// hands them out).
+    #[inline(always)]
+    fn within(&self, slot: u32) -> usize {
+        let index = slot as usize & self.mask;
+        debug_assert_eq!(index, slot as usize, "slot {slot} out of range");
+        index
+    }
+
+    #[inline(always)]
+    pub fn get(&self, slot: u32) -> &SolverBody {
+        // SAFETY: `within` is at most the mask, so in range; no other thread writes this
+        // slot (see the type's comment), and this thread does not write it while the
+        // reference lives (`add` takes no borrow).
+        unsafe { &*self.slots.add(self.within(slot)) }
+    }
+
+    /// A moving body's slot; None for `FIXED_SLOT`, which is never written.
+    #[inline(always)]
+    #[allow(clippy::mut_from_ref)] // the colouring makes this slot this thread's alone
+    fn moving(&self, slot: u32) -> Option<&mut SolverBody> {
+        if slot == FIXED_SLOT {
+            return None;
+        }
+        // SAFETY: in range (`within`), and only this thread reaches this slot in this colour;
+        // the reference is used for one update and dropped before the slot is reached again.
+        Some(unsafe { &mut *self.slots.add(self.within(slot)) })
+    }
+
+    /// Adds an impulse to a moving body's momenta; does nothing for `FIXED_SLOT`.
+    #[inline(always)]
+    pub fn add<L: Lanes>(&self, l: L, push: Push<L::Vector>) {
+        if let Some(body) = self.moving(push.slot) {
+            body.linear_momentum = (l.load(body.linear_momentum) + push.linear).store();
+            body.angular_momentum = (l.load(body.angular_momentum) + push.angular).store();
+        }
+    }
+
+    /// Adds an impulse to a moving body's next warm start (see `add`).
+    #[inline(always)]
+    pub fn add_warm_start<L: Lanes>(&self, l: L, push: Push<L::Vector>) {
+        if let Some(body) = self.moving(push.slot) {
+            body.warm_start[0] = (l.load(body.warm_start[0]) + push.linear).store();
+            body.warm_start[1] = (l.load(body.warm_start[1]) + push.angular).store();
+        }
+    }
+}
+
+/// An impulse on one body at a contact: its linear part and its moment about the centre of
+/// mass.
+#[derive(Clone, Copy, Debug)]
+pub struct Push<V> {
+    pub slot: u32,
+    pub linear: V,
+    pub angular: V,
+}
