@@ -40,6 +40,7 @@ pub fn requested_backends() -> wgpu::Backends {
     }
 }
 
+/// The page's canvas the viewer draws on, if the page has one.
 pub fn canvas() -> Option<HtmlCanvasElement> {
     document()?
         .get_element_by_id(CANVAS_ID)?

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the viewer for the browser into a folder that any static server can serve:
 #   bash web/build.sh [OUT_DIR]        (default: target/web/site)
-# Needs the wasm32 target and wasm-bindgen-cli (`bash web/setup.sh` installs them).
+# Needs the wasm32 target and wasm-bindgen-cli (`cargo xtask setup` installs them).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -14,6 +14,7 @@ use crate::physics::world::World;
 /// The first body a ray or a cast shape meets.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CastHit {
+    /// The body hit.
     pub body: BodyId,
     /// Where the surface of the body is hit, world.
     pub point: DVec3,
@@ -40,8 +41,8 @@ pub fn ray_cast(
     })
 }
 
-/// The first body met by `shape` (placed at `origin` with `rotation`) moving along
-/// `direction` up to `max_distance`. The point is on the body, the normal the body's.
+/// The first body met by the posed shape `cast` moving along `direction` (need not be unit)
+/// up to `max_distance`. The point is on the body, the normal the body's.
 pub fn shape_cast(
     bodies: &[RigidBody],
     cast: &PosedShape,

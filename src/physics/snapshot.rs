@@ -27,43 +27,80 @@ pub const SNAPSHOT_FORMAT: u32 = 2;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WorldSnapshot {
+    /// The `SNAPSHOT_FORMAT` it was written with; any other is refused.
     pub format: u32,
+    /// Simulated time, s (`World::time`).
     pub time: f64,
+    /// Steps taken (`World::step_count`).
     pub steps: u64,
+    /// `World::settings`.
     pub settings: WorldSettings,
+    /// `World::forces`.
     pub forces: Vec<EnvironmentForce>,
     /// The force list the last step saw: an edit since then wakes every body.
     pub forces_seen: Vec<EnvironmentForce>,
+    /// Every body by id, isolated and removed ones included.
     pub bodies: Vec<RigidBody>,
     /// Broad-phase boxes kept between steps, by body.
     pub proxies: Vec<Proxy>,
     /// Bodies added or edited since the last step, which the next step looks at again.
     pub touched: Vec<u32>,
+    /// The impulses each contact ended the last step with, for warm starting.
     pub contact_cache: ContactCache,
     /// The last step's manifolds in their bodies' frames (see `manifold_memory`).
     pub manifold_memory: ManifoldMemory,
+    /// Dynamic bodies awake in the last step (`World::awake_count`).
     pub awake: usize,
+    /// Bodies isolated so far (`World::faults`).
     pub faults: Vec<Fault>,
 }
 
+/// Why a snapshot could not be read, written or used. `file` names the snapshot as the
+/// caller did (a path, or the name given to `from_ron`).
 #[derive(Debug, Error, PartialEq)]
 pub enum SnapshotError {
+    /// The file could not be read or written, or its text does not parse.
     #[error("{file}: {message}")]
-    Unreadable { file: String, message: String },
-    #[error("{file}: format {found}, this build reads format {SNAPSHOT_FORMAT}")]
-    Format { file: String, found: u32 },
-    #[error("{file}: body {index} ('{name}'): {message}")]
-    Body {
+    Unreadable {
+        /// The snapshot's name.
         file: String,
-        index: usize,
-        name: String,
+        /// The reader's, writer's or parser's error.
         message: String,
     },
+    /// Written with another `SNAPSHOT_FORMAT`.
+    #[error("{file}: format {found}, this build reads format {SNAPSHOT_FORMAT}")]
+    Format {
+        /// The snapshot's name.
+        file: String,
+        /// The format the snapshot has.
+        found: u32,
+    },
+    /// A body the engine cannot take: an invalid shape, a state or mass that is not finite,
+    /// or an orientation that is not a rotation.
+    #[error("{file}: body {index} ('{name}'): {message}")]
+    Body {
+        /// The snapshot's name.
+        file: String,
+        /// The body's index (its id).
+        index: usize,
+        /// The body's name.
+        name: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// Parts that do not fit together (a reference to a missing body, too many bodies) or
+    /// settings out of range.
     #[error("{file}: {message}")]
-    Inconsistent { file: String, message: String },
+    Inconsistent {
+        /// The snapshot's name.
+        file: String,
+        /// What is wrong.
+        message: String,
+    },
 }
 
 impl WorldSnapshot {
+    /// The snapshot as pretty-printed RON text.
     pub fn to_ron(&self) -> String {
         let config = ron::ser::PrettyConfig::new().depth_limit(3);
         ron::ser::to_string_pretty(self, config).expect("a snapshot is plain data")
@@ -80,6 +117,7 @@ impl WorldSnapshot {
         Ok(snapshot)
     }
 
+    /// Writes `to_ron` to `path`; a failed write is `Unreadable`.
     pub fn save(&self, path: &Path) -> Result<(), SnapshotError> {
         std::fs::write(path, self.to_ron()).map_err(|e| SnapshotError::Unreadable {
             file: path.display().to_string(),
@@ -87,6 +125,7 @@ impl WorldSnapshot {
         })
     }
 
+    /// Reads, parses and checks the snapshot file at `path`.
     pub fn load(path: &Path) -> Result<WorldSnapshot, SnapshotError> {
         let file = path.display().to_string();
         let text = crate::input_file::read_text(path).map_err(|e| SnapshotError::Unreadable {

@@ -25,6 +25,7 @@ pub struct StageTimes {
 }
 
 impl StageTimes {
+    /// The whole step, s.
     pub fn total(&self) -> f64 {
         self.broad_phase
             + self.narrow_phase
@@ -35,37 +36,18 @@ impl StageTimes {
     }
 }
 
-/// Laps of a clock: each `lap` returns the seconds since the previous one, or 0 when the
-/// clock was started off. A step reads the clock about five times per substep, which is
-/// a quarter of a two-body step's time: it is read only when someone asked for the times.
-pub struct Stopwatch {
+/// Runs `stage` and, when `on`, adds the wall time it took to `seconds`. Off by default in a
+/// world: reading the clock at every stage costs a small scene a noticeable share of its
+/// step.
+#[inline(always)]
+pub(crate) fn timed<R>(on: bool, seconds: &mut f64, stage: impl FnOnce() -> R) -> R {
     #[cfg(not(target_arch = "wasm32"))]
-    last: Option<Instant>,
-}
-
-impl Stopwatch {
-    /// A clock that runs when `on`, and otherwise reads 0 at every lap.
-    #[cfg_attr(target_arch = "wasm32", allow(unused_variables))]
-    pub fn start(on: bool) -> Self {
-        Stopwatch {
-            #[cfg(not(target_arch = "wasm32"))]
-            last: on.then(Instant::now),
-        }
+    if on {
+        let start = Instant::now();
+        let result = stage();
+        *seconds += start.elapsed().as_secs_f64();
+        return result;
     }
-
-    #[cfg(not(target_arch = "wasm32"))]
-    pub fn lap(&mut self) -> f64 {
-        let Some(last) = &mut self.last else {
-            return 0.0;
-        };
-        let now = Instant::now();
-        let seconds = (now - *last).as_secs_f64();
-        *last = now;
-        seconds
-    }
-
-    #[cfg(target_arch = "wasm32")]
-    pub fn lap(&mut self) -> f64 {
-        0.0
-    }
+    let _ = (on, seconds);
+    stage()
 }

@@ -38,18 +38,23 @@ use crate::physics::solver::classic::{self, ClassicContext, ClassicReport, Class
 use crate::physics::solver::soft::{
     self, ContactInput, SoftScratch, SoftSolverSettings, StepContext,
 };
-use crate::physics::stage_times::{StageTimes, Stopwatch};
+use crate::physics::stage_times::{StageTimes, timed};
 
+/// How a world steps: `World::settings`, which may be changed between steps.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct WorldSettings {
+    /// How the bodies' poses are advanced, in either pipeline.
     pub integrator: Integrator,
+    /// Which contact pipeline runs the steps.
     pub pipeline: Pipeline,
+    /// How candidate pairs are found; a change takes effect at the next step.
     pub broad_phase: BroadPhaseKind,
     /// Settings of the `soft` pipeline.
     pub solver: SoftSolverSettings,
     /// Settings of the `classic` pipeline.
     pub classic: ClassicSettings,
+    /// When islands of bodies fall asleep.
     pub sleep: SleepSettings,
 }
 
@@ -64,6 +69,23 @@ pub enum Pipeline {
     Classic,
 }
 
+/// A simulated world: its rigid bodies, the environmental forces on them and the settings,
+/// advanced by `step(dt)`.
+///
+/// A world starts empty and without gravity (`World::default()` or `World::new(settings)`);
+/// push onto `forces` (`EnvironmentForce::earth_gravity()`) and edit `settings` freely between
+/// steps. Bodies come from a [`BodyDesc`] through `add_body`, which returns the body's
+/// [`BodyId`]; ids stay valid for the world's life, since `remove_body` keeps the slot. Read
+/// bodies with `body` and `bodies`, change them through `body_mut` (the next step looks at
+/// a changed body again).
+///
+/// Each `step(dt)`, dt in s, runs the broad phase, the narrow phase, islands and sleep, then
+/// the chosen contact pipeline (`Pipeline`) with the forces and integration; a negative dt
+/// runs the bodies backwards without contacts. A body whose state stops being finite is
+/// isolated and listed in `faults`. The last step's results are read with
+/// `contacts`, `max_penetration`, `awake_count`, `pair_count`, `stage_times` and
+/// `classic_report`; `totals` sums energy and momentum. `ray_cast` and `shape_cast` query
+/// the bodies, and `to_snapshot` / `from_snapshot` save a world and continue it exactly.
 #[derive(Clone, Debug)]
 pub struct World {
     bodies: Vec<RigidBody>,
@@ -99,6 +121,7 @@ pub struct World {
     stage_timing: bool,
     /// Environmental forces, applied to every dynamic body each step. Edit freely.
     pub forces: Vec<EnvironmentForce>,
+    /// How the world steps; edit freely between steps.
     pub settings: WorldSettings,
     time: f64,
     steps: u64,
@@ -120,24 +143,32 @@ pub const MAX_STEP: f64 = 1.0;
 /// and building the bodies would only exhaust memory.
 pub const MAX_BODIES: usize = 100_000;
 
+/// Why `World::add_body` refused a body; the world is left as it was.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum AddBodyError {
+    /// The description failed `BodyDesc::validate`.
     #[error(transparent)]
     Invalid(#[from] BodyError),
+    /// The world already holds `MAX_BODIES` bodies.
     #[error("the world already holds {MAX_BODIES} bodies, the most it takes")]
     TooManyBodies,
 }
 
+/// Why `World::remove_body` refused; each holds the id's number.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum RemoveError {
+    /// No body has this id.
     #[error("there is no body {0}")]
     NoSuchBody(u32),
+    /// The body was removed before.
     #[error("body {0} was already removed")]
     AlreadyRemoved(u32),
 }
 
+/// Why `World::try_step` refused a step; the world is left as it was.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum StepError {
+    /// The `dt` given, s, is not finite or is longer than `MAX_STEP` either way.
     #[error("dt must be finite and at most {MAX_STEP} s either way, got {0}")]
     BadDt(f64),
 }
@@ -145,23 +176,31 @@ pub enum StepError {
 /// A body whose state stopped being finite, and when. The body is isolated the same step.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Fault {
+    /// The isolated body.
     pub body: BodyId,
+    /// Its name.
     pub name: String,
+    /// The step that caught it, counted from 0 (`World::step_count` before that step).
     pub step: u64,
+    /// Simulated time at the start of that step, s.
     pub time: f64,
 }
 
 /// Totals over all dynamic bodies, for summaries and conservation checks.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WorldTotals {
+    /// Σ (½ m v² + ½ ω·A), J.
     pub kinetic_energy: f64,
+    /// In the gravity fields of `World::forces`, zero at the origin, J.
     pub potential_energy: f64,
+    /// Σ L, world, kg·m/s.
     pub linear_momentum: DVec3,
-    /// About the world origin: Σ (C × L + A).
+    /// About the world origin: Σ (C × L + A), world, kg·m²/s.
     pub angular_momentum: DVec3,
 }
 
 impl World {
+    /// An empty world with these settings: no bodies, no forces (not even gravity), time 0.
     pub fn new(settings: WorldSettings) -> Self {
         World {
             bodies: Vec::new(),
@@ -271,12 +310,13 @@ impl World {
         Ok(())
     }
 
+    /// The body `id`. Panics if the world has no such body.
     pub fn body(&self, id: BodyId) -> &RigidBody {
         &self.bodies[id.index()]
     }
 
     /// Mutable access; the next step looks at the body again (its box, whether it is awake,
-    /// whether its state is finite).
+    /// whether its state is finite). Panics if the world has no such body.
     pub fn body_mut(&mut self, id: BodyId) -> &mut RigidBody {
         if id.index() < self.bodies.len() {
             self.awake_set.touch(id.index());
@@ -284,10 +324,13 @@ impl World {
         &mut self.bodies[id.index()]
     }
 
+    /// Every body, indexed by `BodyId::index`; isolated and removed ones included (see
+    /// `RigidBody::motion`).
     pub fn bodies(&self) -> &[RigidBody] {
         &self.bodies
     }
 
+    /// The ids of every body, removed ones included, in order.
     pub fn body_ids(&self) -> impl Iterator<Item = BodyId> + use<> {
         (0..self.bodies.len() as u32).map(BodyId)
     }
@@ -297,6 +340,7 @@ impl World {
         self.time
     }
 
+    /// Steps taken, backward ones included (refused ones are not).
     pub fn step_count(&self) -> u64 {
         self.steps
     }
@@ -317,62 +361,78 @@ impl World {
         Ok(())
     }
 
+    /// One step: a call per stage, each timed when `set_stage_timing` asked for it.
     fn advance(&mut self, dt: f64) {
-        let mut clock = Stopwatch::start(self.stage_timing);
+        let on = self.stage_timing;
         let mut times = StageTimes::default();
         let touched = self.awake_set.take_touched();
         // A non-finite user force or state is caught before any contact can spread it.
-        self.isolate_non_finite(&touched);
-        times.checks = clock.lap();
+        timed(on, &mut times.checks, || self.isolate_non_finite(&touched));
         if dt >= 0.0 {
-            self.wake_on_user_input(&touched);
-            self.broad_phase(dt, &touched);
-            times.broad_phase = clock.lap();
-            self.manifold_memory.forget(&touched);
-            self.clusters.measure(&self.bodies, &self.pairs);
-            narrow_phase::find_manifolds(
-                &self.bodies,
-                &self.pairs,
-                &self.clusters,
-                dt,
-                &mut self.manifold_memory,
-                &mut self.narrow_scratch,
-                &mut self.manifolds,
-            );
-            times.narrow_phase = clock.lap();
-            self.update_sleep(dt);
-            let bodies = &self.bodies;
-            self.manifolds.retain(|m| {
-                bodies[m.body_a.index()].is_awake() || bodies[m.body_b.index()].is_awake()
+            timed(on, &mut times.broad_phase, || {
+                self.wake_on_user_input(&touched);
+                self.broad_phase(dt, &touched);
             });
-            times.islands = clock.lap();
-            times.integrate = match self.settings.pipeline {
-                Pipeline::Soft => self.solve(dt),
-                Pipeline::Classic => {
-                    self.solve_classic(dt);
-                    0.0
-                }
-            };
+            timed(on, &mut times.narrow_phase, || {
+                self.narrow_phase(dt, &touched)
+            });
+            timed(on, &mut times.islands, || self.islands_and_sleep(dt));
+            let mut solve_and_integrate = 0.0;
+            times.integrate = timed(on, &mut solve_and_integrate, || self.solve(dt));
+            times.solve = (solve_and_integrate - times.integrate).max(0.0);
         } else {
-            self.manifolds.clear();
-            self.run_backwards(dt);
-            // No broad phase ran: the next forward step still has to look at these.
-            for &index in &touched {
-                self.awake_set.touch(index as usize);
+            timed(on, &mut times.solve, || self.run_backwards(dt, &touched));
+        }
+        timed(on, &mut times.checks, || self.isolate_broken_awake_bodies());
+        self.stage_times = times;
+        self.time += dt;
+        self.steps += 1;
+    }
+
+    /// The contact manifolds of the broad phase's pairs, new or updated from the last step's.
+    fn narrow_phase(&mut self, dt: f64, touched: &[u32]) {
+        self.manifold_memory.forget(touched);
+        self.clusters.measure(&self.bodies, &self.pairs);
+        narrow_phase::find_manifolds(
+            &self.bodies,
+            &self.pairs,
+            &self.clusters,
+            dt,
+            &mut self.manifold_memory,
+            &mut self.narrow_scratch,
+            &mut self.manifolds,
+        );
+    }
+
+    /// Islands fall asleep or wake; the manifolds between two idle bodies leave the solver.
+    fn islands_and_sleep(&mut self, dt: f64) {
+        self.update_sleep(dt);
+        let bodies = &self.bodies;
+        self.manifolds
+            .retain(|m| bodies[m.body_a.index()].is_awake() || bodies[m.body_b.index()].is_awake());
+    }
+
+    /// Forces, integration and contacts, by the chosen pipeline; returns the seconds spent
+    /// integrating when the pipeline measures them apart (`soft`), else 0.
+    fn solve(&mut self, dt: f64) -> f64 {
+        match self.settings.pipeline {
+            Pipeline::Soft => self.solve_soft(dt),
+            Pipeline::Classic => {
+                self.solve_classic(dt);
+                0.0
             }
         }
-        times.solve = (clock.lap() - times.integrate).max(0.0);
-        // Only the broken ones are listed (none, and nothing allocated, in a healthy step):
-        // isolating a body edits the awake set.
+    }
+
+    /// After the step: the awake bodies whose state went non-finite are isolated. Only the
+    /// broken ones are listed (none, and nothing allocated, in a healthy step): isolating a
+    /// body edits the awake set.
+    fn isolate_broken_awake_bodies(&mut self) {
         let bodies = &self.bodies;
         let broken: Vec<u32> = (self.awake_set.awake(bodies).iter().copied())
             .filter(|&index| needs_isolating(&bodies[index as usize]))
             .collect();
         self.isolate_non_finite(&broken);
-        times.checks += clock.lap();
-        self.stage_times = times;
-        self.time += dt;
-        self.steps += 1;
     }
 
     /// Where the last step's time went; all zeros unless `set_stage_timing(true)` was called
@@ -512,9 +572,9 @@ impl World {
         (self.broad_phase).fill_pairs(&self.proxies, awake, idle_changed, &mut self.pairs);
     }
 
-    /// Forces, integration and contacts together, in substeps (see `solver::soft`).
-    /// The soft pipeline's step; returns the seconds it spent integrating.
-    fn solve(&mut self, dt: f64) -> f64 {
+    /// The soft pipeline's step: forces, integration and contacts together, in substeps (see
+    /// `solver::soft`); returns the seconds it spent integrating.
+    fn solve_soft(&mut self, dt: f64) -> f64 {
         let mut inputs = std::mem::take(&mut self.solver_inputs);
         self.contact_cache
             .solver_inputs(&self.manifolds, &mut inputs);
@@ -546,7 +606,8 @@ impl World {
 
     /// The forward substeps undone in reverse order: without contacts and with forces that do
     /// not depend on position, this retraces the forward motion exactly.
-    fn run_backwards(&mut self, dt: f64) {
+    fn run_backwards(&mut self, dt: f64, touched: &[u32]) {
+        self.manifolds.clear();
         let substeps = self.settings.solver.substeps.max(1);
         let h = dt / substeps as f64;
         let awake = self.awake_set.awake(&self.bodies);
@@ -560,6 +621,10 @@ impl World {
                 integrate::integrate_body(body, h, self.settings.integrator);
             }
             body.clear_accumulators();
+        }
+        // No broad phase ran: the next forward step still has to look at these.
+        for &index in touched {
+            self.awake_set.touch(index as usize);
         }
     }
 
@@ -583,6 +648,8 @@ impl World {
         }
     }
 
+    /// Energy and momentum summed over the dynamic bodies (isolated and removed ones left
+    /// out).
     pub fn totals(&self) -> WorldTotals {
         let dynamic = self.bodies.iter().filter(|b| b.is_dynamic());
         let mut totals = WorldTotals {

@@ -13,31 +13,40 @@ const ORBIT_SPEED: f32 = 0.008;
 /// Pitch stays short of the poles, where the up vector would flip.
 const PITCH_LIMIT: f32 = 1.5;
 
+/// A camera that looks at `target` from `distance` away, placed by two angles. World space
+/// is y up; the camera's up is always +y.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OrbitCamera {
+    /// The point looked at and orbited around, world space.
     pub target: Vec3,
+    /// From the target to the eye, m. [`zoom`](Self::zoom) keeps it within 0.2 to 200.
     pub distance: f32,
-    /// Around the world y axis, from +z.
+    /// Radians around the world y axis, from +z (0 puts the eye on the target's +z side).
     pub yaw: f32,
-    /// Elevation above the horizontal plane.
+    /// Radians of elevation above the horizontal plane; [`orbit`](Self::orbit) keeps it
+    /// within ±1.5.
     pub pitch: f32,
 }
 
 /// A half-line in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
+    /// Where the ray starts: for a camera ray, on the near plane.
     pub origin: Vec3,
     /// Unit length.
     pub direction: Vec3,
 }
 
 impl Ray {
+    /// The point `t` along the ray; `direction` is unit length, so `t` is a distance in m.
     pub fn at(&self, t: f32) -> Vec3 {
         self.origin + self.direction * t
     }
 }
 
 impl OrbitCamera {
+    /// The camera with its eye at `hint.eye` looking at `hint.target`. An eye closer than
+    /// 0.1 m to the target is moved out to 0.1 m.
     pub fn from_hint(hint: &CameraHint) -> Self {
         let offset = hint.eye - hint.target;
         let distance = offset.length().max(0.1);
@@ -49,26 +58,33 @@ impl OrbitCamera {
         }
     }
 
+    /// The eye position, world space.
     pub fn eye(&self) -> Vec3 {
         let (sy, cy) = self.yaw.sin_cos();
         let (sp, cp) = self.pitch.sin_cos();
         self.target + Vec3::new(sy * cp, sp, cy * cp) * self.distance
     }
 
+    /// The world-to-view matrix (right-handed, looking down view -z, +y up).
     pub fn view(&self) -> Mat4 {
         view::look_at_mat4(self.eye(), self.target, Vec3::Y)
     }
 
+    /// The view-to-clip perspective: 45° vertical field of view, near plane 0.1 m, far plane
+    /// 500 m, depth from 0 (near) to 1 (far). `aspect` is width over height.
     pub fn projection(&self, aspect: f32) -> Mat4 {
         // WebGPU clip space: z in [0, 1], y up, as in DirectX.
         proj::directx::perspective(FOV_Y, aspect.max(1e-3), NEAR, FAR)
     }
 
+    /// The world-to-clip matrix, [`projection`](Self::projection) times
+    /// [`view`](Self::view).
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
         self.projection(aspect) * self.view()
     }
 
-    /// Turns the camera by a mouse motion in pixels.
+    /// Turns the camera around the target by a mouse motion in pixels: x changes the yaw,
+    /// y the pitch.
     pub fn orbit(&mut self, delta: Vec2) {
         self.yaw -= delta.x * ORBIT_SPEED;
         self.pitch = (self.pitch + delta.y * ORBIT_SPEED).clamp(-PITCH_LIMIT, PITCH_LIMIT);

@@ -5,24 +5,36 @@ use std::sync::Arc;
 
 use winit::window::Window;
 
+/// The wgpu handles every renderer needs. The device asks only for WebGL2-level limits,
+/// so the same code runs on software adapters and in the browser.
 pub struct Gpu {
+    /// The instance the adapter came from; also creates a window's surface again when it is
+    /// lost.
     pub instance: wgpu::Instance,
+    /// The graphics adapter in use.
     pub adapter: wgpu::Adapter,
+    /// The logical device: creates buffers, textures and pipelines.
     pub device: wgpu::Device,
+    /// Where command buffers are submitted and buffers written.
     pub queue: wgpu::Queue,
 }
 
 /// A window's surface with its current configuration. `config` is None while the window has
 /// zero size (minimised): a surface may not be configured to 0×0.
 pub struct WindowSurface {
+    /// The surface presented to the window.
     pub surface: wgpu::Surface<'static>,
+    /// Its colour format: `Bgra8Unorm` or `Rgba8Unorm` where offered, since the shaders
+    /// write gamma-encoded colours, else the first format the surface supports.
     pub format: wgpu::TextureFormat,
+    /// The configuration in force, or None while the surface is unconfigured.
     pub config: Option<wgpu::SurfaceConfiguration>,
 }
 
 impl Gpu {
     /// A device with no surface (tests, headless renders). Software adapters (lavapipe,
-    /// llvmpipe) are accepted; `WGPU_BACKEND` picks a backend.
+    /// llvmpipe) are accepted; `WGPU_BACKEND` picks a backend. The error says why no
+    /// adapter or device could be had, and how to install a software adapter.
     pub fn offscreen() -> Result<Gpu, String> {
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
@@ -38,7 +50,8 @@ impl Gpu {
 
     /// A device that can present to `window`, and the window's surface (not yet configured).
     /// Asynchronous because the browser answers adapter and device requests later; native
-    /// callers block on it.
+    /// callers block on it. The error says what is missing: an adapter, a surface, a
+    /// supported colour format or a device.
     pub async fn for_window(window: Arc<Window>) -> Result<(Gpu, WindowSurface), String> {
         let instance = window_instance(&window).await;
         let surface = instance
@@ -101,7 +114,8 @@ impl Gpu {
 }
 
 impl WindowSurface {
-    /// (Re)configures for a new size; a zero size leaves the surface unconfigured.
+    /// (Re)configures for a new size in pixels, with vsync; a zero size leaves the surface
+    /// unconfigured.
     pub fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) {
         if width == 0 || height == 0 {
             self.config = None;

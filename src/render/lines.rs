@@ -7,9 +7,12 @@ use glam::Vec3;
 use crate::sim::{BodyState, LineSegment};
 
 #[repr(C)]
+/// One end of a line segment, as the line pipelines read it.
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct LineVertex {
+    /// World space.
     pub position: [f32; 3],
+    /// Gamma-encoded RGBA; alpha blends the line over what is behind it.
     pub color: [f32; 4],
 }
 
@@ -19,6 +22,7 @@ pub const AABB_COLOR: [f32; 3] = [1.0, 0.85, 0.1];
 pub const BROAD_PHASE_COLOR: [f32; 3] = [0.1, 0.9, 0.9];
 /// Magenta: the uniform grid's occupied cells, apart from the boxes inside them.
 pub const GRID_CELL_COLOR: [f32; 3] = [0.95, 0.2, 0.85];
+/// The velocity arrows.
 pub const VELOCITY_COLOR: [f32; 3] = [0.1, 0.9, 1.0];
 const GRID_COLOR: [f32; 4] = [0.35, 0.38, 0.42, 0.6];
 
@@ -27,12 +31,15 @@ const GRID_HALF: i32 = 12;
 /// Slightly below y = 0 so that floors whose top is at 0 hide it instead of flickering.
 const GRID_Y: f32 = -0.02;
 
+/// Line segments to draw, built up on the CPU for one frame.
 #[derive(Default)]
 pub struct LineList {
+    /// Two vertices per segment, in order (a line-list topology).
     pub vertices: Vec<LineVertex>,
 }
 
 impl LineList {
+    /// Adds the segment from `from` to `to` (world space) in `color` (gamma-encoded RGBA).
     pub fn segment(&mut self, from: Vec3, to: Vec3, color: [f32; 4]) {
         self.vertices.push(LineVertex {
             position: from.into(),
@@ -44,6 +51,8 @@ impl LineList {
         });
     }
 
+    /// The ground grid: lines 1 m apart from -12 m to 12 m along x and z, in a translucent
+    /// grey just below y = 0.
     pub fn grid(&mut self) {
         let extent = GRID_HALF as f32;
         for i in -GRID_HALF..=GRID_HALF {
@@ -61,7 +70,8 @@ impl LineList {
         }
     }
 
-    /// The twelve edges of an axis-aligned box.
+    /// The twelve edges of the axis-aligned box from `min` to `max` (world space), opaque
+    /// in `color` (gamma-encoded RGB).
     pub fn aabb(&mut self, min: Vec3, max: Vec3, color: [f32; 3]) {
         let color = [color[0], color[1], color[2], 1.0];
         let corner = |i: usize| {
@@ -98,6 +108,8 @@ impl LineList {
         }
     }
 
+    /// Adds the simulation's segments (contacts, the drag spring), opaque in their own
+    /// colours.
     pub fn segments(&mut self, segments: &[LineSegment]) {
         for s in segments {
             self.segment(s.from, s.to, [s.color[0], s.color[1], s.color[2], 1.0]);

@@ -9,15 +9,21 @@ use glam::{Mat4, Vec2, Vec3};
 use crate::physics::{ConvexHull, Shape};
 
 #[repr(C)]
+/// One mesh vertex, as the mesh pipeline reads it.
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Vertex {
+    /// In the shape's own frame, m.
     pub position: [f32; 3],
+    /// Unit length, pointing out of the shape.
     pub normal: [f32; 3],
 }
 
+/// An indexed triangle mesh on the CPU.
 #[derive(Clone, Debug, Default)]
 pub struct MeshData {
+    /// The vertices the indices refer to.
     pub vertices: Vec<Vertex>,
+    /// Three indices into `vertices` per triangle, counter-clockwise seen from outside.
     pub indices: Vec<u32>,
 }
 
@@ -85,6 +91,7 @@ pub fn shape_mesh(shape: &Shape) -> MeshData {
     }
 }
 
+/// A box centred on the origin with half extents `h` (m): six faces with flat normals.
 pub fn cuboid(h: Vec3) -> MeshData {
     let mut mesh = MeshData::default();
     for axis in 0..3 {
@@ -158,6 +165,7 @@ fn arc(
     })
 }
 
+/// A sphere of radius `r` (m) centred on the origin, with smooth normals.
 pub fn sphere(r: f32) -> MeshData {
     let mut mesh = MeshData::default();
     let profile: Vec<_> = arc(r, 0.0, 0.0, PI, RINGS).collect();
@@ -165,6 +173,8 @@ pub fn sphere(r: f32) -> MeshData {
     mesh
 }
 
+/// A capsule along the y axis: the centres of its two end hemispheres of radius `r` are at
+/// y = ±`half_height` (m). Smooth normals.
 pub fn capsule(half_height: f32, r: f32) -> MeshData {
     let mut mesh = MeshData::default();
     let half = RINGS / 2;
@@ -175,6 +185,8 @@ pub fn capsule(half_height: f32, r: f32) -> MeshData {
     mesh
 }
 
+/// A cylinder of radius `r` along the y axis, from y = -`half_height` to `half_height` (m):
+/// a smooth side and two flat caps.
 pub fn cylinder(half_height: f32, r: f32) -> MeshData {
     let mut mesh = MeshData::default();
     let side = [-half_height, half_height].map(|y| ProfilePoint {

@@ -4,14 +4,19 @@ use image::RgbaImage;
 
 use crate::render::gpu::Gpu;
 
+/// A 2D colour texture to draw into and read back.
 pub struct OffscreenTarget {
+    /// The texture; a render attachment and a copy source.
     pub texture: wgpu::Texture,
+    /// The view to pass as the render target.
     pub view: wgpu::TextureView,
+    /// Width and height in pixels.
     pub size: (u32, u32),
 }
 
 impl OffscreenTarget {
-    /// `format` must be an 8-bit RGBA or BGRA format (the window's, for screenshots).
+    /// A target of `size` pixels (width, height; both above zero). `format` must be an
+    /// 8-bit RGBA or BGRA format (the window's, for screenshots).
     pub fn new(gpu: &Gpu, size: (u32, u32), format: wgpu::TextureFormat) -> Self {
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("offscreen"),
@@ -31,7 +36,8 @@ impl OffscreenTarget {
         }
     }
 
-    /// Copies the texture back to the CPU (waits for the GPU).
+    /// Copies the texture back to the CPU as an RGBA image, whatever the channel order of
+    /// the format. Blocks until the GPU has finished; the error says which step failed.
     pub fn read(&self, gpu: &Gpu) -> Result<RgbaImage, String> {
         let (width, height) = self.size;
         // Rows of a texture-to-buffer copy must be multiples of 256 bytes.

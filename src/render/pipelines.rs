@@ -6,14 +6,18 @@ use bytemuck::{Pod, Zeroable};
 use crate::render::lines::LineVertex;
 use crate::render::mesh::Vertex;
 
+/// The depth buffer format of every pass.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Per-frame uniforms; the layout matches `Globals` in shaders/*.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Globals {
+    /// The world-to-clip matrix, by columns.
     pub view_proj: [[f32; 4]; 4],
+    /// The eye position in world space in xyz; w is 1.
     pub camera_pos: [f32; 4],
+    /// The direction the sunlight travels in xyz (unit length, world space); w is 0.
     pub light_dir: [f32; 4],
 }
 
@@ -21,13 +25,22 @@ pub struct Globals {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Instance {
+    /// The shape-frame-to-world matrix, by columns.
     pub model: [[f32; 4]; 4],
+    /// Linear RGB (the lighting works in linear values); alpha is 1.
     pub color: [f32; 4],
 }
 
+/// Every render pipeline the scene renderer draws with, for one colour format and sample
+/// count.
 pub struct Pipelines {
+    /// The layout of bind group 0: the `Globals` uniform, seen by vertex and fragment
+    /// stages.
     pub globals_layout: wgpu::BindGroupLayout,
+    /// Lit, instanced body meshes (`Vertex` and `Instance` buffers), depth tested and
+    /// written.
     pub mesh: wgpu::RenderPipeline,
+    /// The sky gradient: one full-screen triangle, no vertex buffers, drawn first.
     pub sky: wgpu::RenderPipeline,
     /// Lines hidden by bodies (the grid).
     pub world_lines: wgpu::RenderPipeline,
@@ -48,6 +61,8 @@ struct PipelineSpec<'a> {
 }
 
 impl Pipelines {
+    /// Builds the pipelines for colour targets of `format` multisampled `samples` times,
+    /// with a `DEPTH_FORMAT` depth attachment.
     pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat, samples: u32) -> Self {
         let globals_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("globals"),

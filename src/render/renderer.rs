@@ -26,6 +26,8 @@ const PALETTE: [[f32; 3]; 6] = [
     [0.50, 0.74, 0.36],
     [0.80, 0.50, 0.72],
 ];
+/// Fixed bodies (gamma-encoded); its brightness steps with the shape so that touching
+/// fixed parts stay apart.
 pub const STATIC_COLOR: [f32; 3] = [0.60, 0.63, 0.68];
 /// Distinct from every palette entry: a saturated blue-violet.
 pub const SLEEP_COLOR: [f32; 3] = [0.35, 0.35, 0.95];
@@ -35,13 +37,17 @@ const SELECTED_LIGHTEN: f32 = 0.45;
 /// Which overlays to draw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Overlays {
+    /// The ground grid (on by default).
     pub grid: bool,
+    /// Each body's bounding box, in `AABB_COLOR`.
     pub aabbs: bool,
+    /// Velocity arrows on dynamic bodies.
     pub velocities: bool,
+    /// The snapshot's contact points and normals (on by default).
     pub contacts: bool,
     /// The broad phase's boxes of awake bodies (bounds grown by the step's reach).
     pub broad_phase: bool,
-    /// Draw sleeping bodies in `SLEEP_COLOR`.
+    /// Draw sleeping bodies in `SLEEP_COLOR` (on by default).
     pub sleep_tint: bool,
 }
 
@@ -60,12 +66,16 @@ impl Default for Overlays {
 
 /// Everything one frame shows.
 pub struct FrameInput<'a> {
+    /// The bodies, shapes and overlay data to draw.
     pub snapshot: &'a Snapshot,
     /// One pose per body of `snapshot` (interpolated between steps).
     pub poses: &'a [BodyPose],
+    /// Where the scene is seen from.
     pub camera: &'a OrbitCamera,
+    /// Which overlays to draw.
     pub overlays: Overlays,
-    /// The body under the mouse or being dragged, drawn highlighted.
+    /// The body under the mouse or being dragged (an index into the snapshot's bodies),
+    /// drawn highlighted.
     pub selected: Option<usize>,
     /// Lines from the viewer itself (the drag spring), drawn over everything.
     pub extra_lines: &'a [LineSegment],
@@ -76,13 +86,18 @@ pub struct FrameInput<'a> {
 /// A rectangle of the target, in pixels from the top-left corner.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Viewport {
+    /// Left edge, pixels.
     pub x: f32,
+    /// Top edge, pixels.
     pub y: f32,
+    /// Width, pixels.
     pub width: f32,
+    /// Height, pixels.
     pub height: f32,
 }
 
 impl Viewport {
+    /// The whole of a target of `size` pixels (width, height).
     pub fn full(size: (u32, u32)) -> Self {
         Viewport {
             x: 0.0,
@@ -92,6 +107,7 @@ impl Viewport {
         }
     }
 
+    /// Width over height, for the projection (a height under one pixel counts as one).
     pub fn aspect(&self) -> f32 {
         self.width / self.height.max(1.0)
     }
@@ -110,6 +126,9 @@ struct Targets {
     depth: wgpu::TextureView,
 }
 
+/// Draws snapshots with the GPU resources it keeps between frames: the pipelines, one mesh
+/// per distinct shape (rebuilt only when the shape table changes) and the multisampled
+/// colour and depth buffers (rebuilt when the target size does).
 pub struct SceneRenderer {
     format: wgpu::TextureFormat,
     pipelines: Pipelines,
@@ -128,6 +147,8 @@ pub struct SceneRenderer {
 }
 
 impl SceneRenderer {
+    /// A renderer for targets of `format`, the format of the view later passed to
+    /// [`encode`](Self::encode).
     pub fn new(gpu: &Gpu, format: wgpu::TextureFormat) -> Self {
         let pipelines = Pipelines::new(&gpu.device, format, SAMPLES);
         let globals = gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -161,7 +182,8 @@ impl SceneRenderer {
         }
     }
 
-    /// Uploads what `frame` needs for a target of `size` pixels.
+    /// Uploads what `frame` needs for a target of `size` pixels (width, height); the frame's
+    /// viewport is the part of it drawn to. Call before each [`encode`](Self::encode).
     pub fn prepare(&mut self, gpu: &Gpu, frame: &FrameInput, size: (u32, u32)) {
         self.ensure_targets(gpu, size);
         self.ensure_meshes(gpu, frame.snapshot);
@@ -178,7 +200,12 @@ impl SceneRenderer {
         self.upload_lines(gpu, frame);
     }
 
-    /// Records the frame into `encoder`, clearing and resolving into `target`.
+    /// Records the frame into `encoder`, clearing and resolving into `target`, which must
+    /// have the size given to [`prepare`](Self::prepare) and the renderer's format.
+    ///
+    /// # Panics
+    ///
+    /// If `prepare` was never called.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, target: &wgpu::TextureView) {
         let targets = self.targets.as_ref().expect("prepare() before encode()");
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -4,8 +4,10 @@ use crate::scene::error::SceneError;
 use crate::scene::file::Scene;
 use crate::scene::parse::parse;
 
+/// A scene file compiled into the binary.
 #[derive(Clone, Copy, Debug)]
 pub struct BuiltinScene {
+    /// What `load` and the viewer's scene list call it: the file name without `.ron`.
     pub name: &'static str,
     /// The RON text, as in `scenes/<name>.ron`.
     pub source: &'static str,
@@ -48,6 +50,7 @@ pub fn builtin_scene_names() -> impl Iterator<Item = &'static str> {
     BUILTIN_SCENES.iter().map(|scene| scene.name)
 }
 
+/// The built-in scene called `name`, if there is one.
 pub fn find_builtin(name: &str) -> Option<&'static BuiltinScene> {
     BUILTIN_SCENES.iter().find(|scene| scene.name == name)
 }

@@ -3,58 +3,102 @@
 
 use thiserror::Error;
 
+/// Why a scene could not be loaded or built. `file` is the scene's origin (its path as
+/// given, or `scenes/<name>.ron` for a built-in one); the message starts with it.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum SceneError {
+    /// Raised by `load_file` when the file is missing, not a regular file, larger than
+    /// `input_file::MAX_INPUT_BYTES` or not UTF-8.
     #[error("{file}: cannot read: {message}")]
-    Read { file: String, message: String },
+    Read {
+        /// The path as given.
+        file: String,
+        /// The operating system's reason, or which of those checks failed.
+        message: String,
+    },
 
-    /// RON syntax, a wrong type, an unknown or missing field. `body` and `field` are filled
-    /// when the error lies inside one.
+    /// Raised by `parse` when the text does not read as a scene: RON syntax, a wrong type,
+    /// an unknown or missing field. `body` and `field` are filled when the error lies inside
+    /// one.
     #[error("{file}:{line}:{column}: {}{message}", describe(.body, .field))]
     Format {
+        /// The scene's origin.
         file: String,
+        /// Where the parser stopped, counted from 1.
         line: usize,
+        /// Where on that line, in characters, counted from 1.
         column: usize,
+        /// `'name'`, or `#index` when the body has no name or it cannot be read.
         body: Option<String>,
+        /// Path to the value, inside the body if there is one: `shape.half_extents.x`.
         field: Option<String>,
+        /// What the parser expected or found.
         message: String,
     },
 
-    /// A scene-level value: `settings.dt`, `camera.eye`, `forces[1].coefficient`, `name`.
+    /// A scene-level value is out of bounds: `settings.dt`, `camera.eye`,
+    /// `forces[1].coefficient`, `name`.
     #[error("{file}: field '{field}': {message}")]
     Field {
+        /// The scene's origin.
         file: String,
+        /// Path to the value, components included: `camera.eye.x`.
         field: String,
+        /// What is wrong, with the value found.
         message: String,
     },
 
+    /// A material of `materials` has a bad `density` (not positive), `restitution` (outside
+    /// [0, 1]) or `friction` (outside [0, `MAX_FRICTION`]). Inline materials are reported as
+    /// `Body` errors on `material.…`.
     #[error("{file}: material '{material}' field '{field}': {message}")]
     Material {
+        /// The scene's origin.
         file: String,
+        /// Its key in `materials`.
         material: String,
+        /// `density`, `restitution` or `friction`.
         field: String,
+        /// What is wrong, with the value found.
         message: String,
     },
 
+    /// A body's value is invalid: a shape dimension, a rotation, a non-finite vector, an unknown material,
+    /// a mass that is not positive, a generator, or a mass or momentum that overflows.
     /// `body` is `'name'`, or `#index` (position in `bodies`) for an unnamed body. Errors in a
     /// generator template name the template.
     #[error("{file}: body {body} field '{field}': {message}")]
     Body {
+        /// The scene's origin.
         file: String,
+        /// `'name'` or `#index`.
         body: String,
+        /// Path to the value inside the body: `shape.parts[2].shape.radius`.
         field: String,
+        /// What is wrong, with the value found.
         message: String,
     },
 
+    /// The bodies, generators expanded, outnumber `MAX_BODIES`; checked before any is built.
     #[error("{file}: {count} bodies after generators, more than the limit of {limit}")]
     TooManyBodies {
+        /// The scene's origin.
         file: String,
+        /// Bodies the scene would make (saturating at `u64::MAX`).
         count: u64,
+        /// `MAX_BODIES`.
         limit: usize,
     },
 
+    /// Raised by `load` when the name is neither a built-in scene nor the path of an
+    /// existing file.
     #[error("no built-in scene is named '{name}' and no such file exists (built-in: {available})")]
-    UnknownScene { name: String, available: String },
+    UnknownScene {
+        /// The name or path asked for.
+        name: String,
+        /// The built-in scene names, comma-separated.
+        available: String,
+    },
 }
 
 fn describe(body: &Option<String>, field: &Option<String>) -> String {

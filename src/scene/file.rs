@@ -17,11 +17,15 @@ use crate::scene::material_ref::MaterialRef;
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Scene")]
 pub struct Scene {
+    /// The scene's title; required, and not blank.
     pub name: String,
+    /// Free text saying what the scene shows; optional.
     #[serde(default)]
     pub description: String,
+    /// Time step and integrator; omitted, dt = 1/240 s and `Midpoint`.
     #[serde(default)]
     pub settings: SceneSettings,
+    /// Where the viewer's camera starts; omitted, eye (0, 5, 15) looking at (0, 1, 0).
     #[serde(default)]
     pub camera: Camera,
     /// Environmental forces. None by default: a scene without `Gravity` is weightless.
@@ -30,17 +34,23 @@ pub struct Scene {
     /// Materials that bodies refer to by name.
     #[serde(default)]
     pub materials: BTreeMap<String, Material>,
+    /// The bodies, in the order the world numbers them; a line with `repeat` stands for all
+    /// its copies, in generation order.
     #[serde(default)]
     pub bodies: Vec<BodySpec>,
+    /// Not read from the file: the file's path, or the `origin` given to `parse`.
     #[serde(skip)]
     pub origin: String,
 }
 
+/// `settings: (dt: …, integrator: …)`: how the scene is stepped. Either field may be left out.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SceneSettings {
     /// Time step, s; must lie in `scene::DT_RANGE`.
     pub dt: f64,
+    /// How orientations are advanced: `Midpoint` (the default), `ExactRotation` or
+    /// `ReportEuler` (see [`Integrator`]).
     pub integrator: Integrator,
 }
 
@@ -57,7 +67,9 @@ impl Default for SceneSettings {
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Camera {
+    /// The camera's position, m.
     pub eye: DVec3,
+    /// The point it looks at, m; must differ from `eye`.
     pub target: DVec3,
 }
 
@@ -75,13 +87,27 @@ impl Default for Camera {
 #[serde(deny_unknown_fields)]
 pub enum ForceSpec {
     /// Uniform field, m/s²: `Gravity(acceleration: (0, -9.81, 0))`.
-    Gravity { acceleration: DVec3 },
+    Gravity {
+        /// g, m/s²; any finite vector.
+        acceleration: DVec3,
+    },
     /// F = −k v, k in N·s/m.
-    LinearDrag { coefficient: f64 },
+    LinearDrag {
+        /// k, N·s/m; not negative.
+        coefficient: f64,
+    },
     /// F = −c |v| v, c in N·s²/m².
-    QuadraticDrag { coefficient: f64 },
+    QuadraticDrag {
+        /// c, N·s²/m²; not negative.
+        coefficient: f64,
+    },
     /// F = k (w − v): air moving at `velocity`.
-    Wind { velocity: DVec3, coefficient: f64 },
+    Wind {
+        /// w, the air's velocity, m/s.
+        velocity: DVec3,
+        /// k, N·s/m; not negative.
+        coefficient: f64,
+    },
 }
 
 /// One body, or a template for many when `repeat` is set.
@@ -91,16 +117,18 @@ pub struct BodySpec {
     /// Generated copies are named `name_0`, `name_1`, … in generation order.
     #[serde(default)]
     pub name: String,
+    /// The shape, in the body's own frame (see [`ShapeSpec`]).
     pub shape: ShapeSpec,
     /// Where the shape's own origin is placed (for a compound, the origin of its parts' frame).
     #[serde(default)]
     pub position: DVec3,
+    /// Orientation, about the shape's origin; omitted, none.
     #[serde(default)]
     pub rotation: Rotation,
-    /// m/s
+    /// Velocity of the centre of mass, m/s; ignored for a static body.
     #[serde(default)]
     pub velocity: DVec3,
-    /// rad/s, world axes.
+    /// rad/s, world axes; ignored for a static body.
     #[serde(default)]
     pub angular_velocity: DVec3,
     /// A name from `materials`, or an inline `(density: …, restitution: …, friction: …)`.
@@ -116,56 +144,81 @@ pub struct BodySpec {
     /// Simulated but not drawn, like a machine's front glass.
     #[serde(default)]
     pub hidden: bool,
+    /// Makes copies of the body, placed by offsets from `position` (see [`Repeat`]); written
+    /// `repeat: Grid(…)`, without `Some`.
     #[serde(default)]
     pub repeat: Option<Repeat>,
 }
 
+/// A body's shape. Every length is in m and must lie in [1e-4, 1e4] (the engine's
+/// `MIN_EXTENT`, `MAX_EXTENT`).
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum ShapeSpec {
+    /// Centred on the shape's origin.
     Sphere {
+        /// m
         radius: f64,
     },
+    /// A box centred on the shape's origin, its edges along the local axes.
     Cuboid {
+        /// Half the edge lengths along local x, y, z, m.
         half_extents: DVec3,
     },
     /// Along the local y axis.
     Capsule {
+        /// Half the distance between the centres of the two end caps, m.
         half_height: f64,
+        /// Radius of the cylinder and of its hemispherical caps, m.
         radius: f64,
     },
     /// Along the local y axis.
     Cylinder {
+        /// Half the height, m.
         half_height: f64,
+        /// m
         radius: f64,
     },
     /// The convex hull of the points, in the body's shape frame.
     Hull {
+        /// 4 to 100 000 points, m, each coordinate within 1e4 of the origin; not all in one
+        /// plane.
         points: Vec<DVec3>,
     },
     /// Convex parts, each placed in the body's shape frame. Parts may not be compounds.
     Compound {
+        /// At least one part.
         parts: Vec<PartSpec>,
     },
 }
 
+/// One part of a `Compound`: `(shape: …, position: …, rotation: …)`.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PartSpec {
+    /// Any shape but `Compound`.
     pub shape: ShapeSpec,
+    /// Where the part's own origin lies in the body's shape frame, m; omitted, at its origin.
     #[serde(default)]
     pub position: DVec3,
+    /// The part's orientation in the body's shape frame; omitted, none.
     #[serde(default)]
     pub rotation: Rotation,
 }
 
+/// An orientation as written in a scene file.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum Rotation {
     /// Degrees about the world x axis, then the world y axis, then the world z axis.
     Euler(f64, f64, f64),
     /// `degrees` about `axis` (any non-zero length).
-    AxisAngle { axis: DVec3, degrees: f64 },
+    AxisAngle {
+        /// The rotation axis; any non-zero length.
+        axis: DVec3,
+        /// Angle, degrees, right-handed about `axis`.
+        degrees: f64,
+    },
 }
 
 impl Default for Rotation {
@@ -182,13 +235,21 @@ pub enum Repeat {
     /// `(i spacing.x, j spacing.y, k spacing.z)`, plus `stagger` when j is odd (staggered rows
     /// of pins). Copies are generated with i fastest, then k, then j (bottom layer first).
     Grid {
+        /// Copies along x, y and z; each at least 1.
         count: (u32, u32, u32),
+        /// Distance between neighbouring copies along x, y and z, m.
         spacing: DVec3,
+        /// Extra offset of the odd layers (j odd), m; omitted, none.
         #[serde(default)]
         stagger: DVec3,
     },
     /// A triangle of copies in the x–y plane: layer l (0 at the bottom) holds `layers − l`
     /// copies, moved by `((i + l/2) spacing.0, l spacing.1, 0)`, so it has
     /// `layers (layers + 1) / 2` copies in all.
-    Pyramid { layers: u32, spacing: (f64, f64) },
+    Pyramid {
+        /// Number of layers, and of copies in the bottom one; at least 1.
+        layers: u32,
+        /// Horizontal distance between neighbours in a layer and height of a layer, m.
+        spacing: (f64, f64),
+    },
 }

@@ -11,15 +11,20 @@ use crate::physics::{BroadPhaseKind, Integrator, Pipeline};
 /// The primitive a spawn button creates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum SpawnKind {
+    /// Radius 0.3 m.
     Sphere,
+    /// A cube of half-extent 0.3 m.
     Box,
+    /// Half-height 0.3 m, radius 0.2 m.
     Capsule,
+    /// Half-height 0.25 m, radius 0.3 m.
     Cylinder,
-    /// A convex hull of random points.
+    /// A convex hull of 14 random points 0.2 to 0.35 m from its origin.
     Hull,
 }
 
 impl SpawnKind {
+    /// Every kind, in the order the panel shows its buttons.
     pub const ALL: [SpawnKind; 5] = [
         SpawnKind::Sphere,
         SpawnKind::Box,
@@ -28,6 +33,7 @@ impl SpawnKind {
         SpawnKind::Hull,
     ];
 
+    /// Lower-case name, given to the bodies spawned as this kind.
     pub fn name(self) -> &'static str {
         match self {
             SpawnKind::Sphere => "sphere",
@@ -39,6 +45,8 @@ impl SpawnKind {
     }
 }
 
+/// One request to the simulation. Recordings store them as RON (`SetDt(0.005)`,
+/// `Spawn(kind: Box, position: (0, 5, 0), velocity: (0, 0, 0))`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Command {
     /// Stops or restarts the clock; stepping once still works while paused.
@@ -51,42 +59,60 @@ pub enum Command {
     LoadScene(String),
     /// Replaces every gravity field by this acceleration (m/s²).
     SetGravity(DVec3),
-    /// Sets the restitution of every body, and of bodies spawned later.
+    /// Sets the restitution of every body, and of bodies spawned later; clamped to [0, 1].
     SetRestitution(f64),
-    /// Sets the friction coefficient of every body, and of bodies spawned later.
+    /// Sets the friction coefficient of every body, and of bodies spawned later; negative
+    /// values become 0.
     SetFriction(f64),
     /// Sets restitution and friction of the bodies made of the scene's material `name`.
+    /// Ignored when either value is not finite.
     SetMaterial {
+        /// A key of the scene's `materials`, `own: BODY` for an inline one, or `spawned`.
         name: String,
+        /// Clamped to [0, 1].
         restitution: f64,
+        /// Negative values become 0.
         friction: f64,
     },
-    /// Fixed step, s.
+    /// Fixed step, s; clamped to [1e-4, 0.05].
     SetDt(f64),
-    /// Simulated seconds per wall-clock second.
+    /// Simulated seconds per wall-clock second; clamped to [0, 10], 0 stopping the clock.
     SetTimeScale(f64),
+    /// How orientations are advanced from one step to the next.
     SetIntegrator(Integrator),
     /// The contact pipeline: the soft solver or the report's classic method.
     SetPipeline(Pipeline),
     /// The broad phase: sweep and prune, uniform grid or brute force.
     SetBroadPhase(BroadPhaseKind),
-    /// Substeps (soft) or slices (classic) per step.
+    /// Substeps (soft) or slices (classic) per step; clamped to [1, 64].
     SetSubsteps(u32),
+    /// Lets bodies at rest fall asleep (true) or keeps every body awake (false).
     SetSleeping(bool),
+    /// Adds a body of the current restitution and friction; refused once the world holds
+    /// `MAX_BODIES`.
     Spawn {
+        /// Which primitive.
         kind: SpawnKind,
+        /// Where its shape's origin goes, m; if its bounding box would overlap another
+        /// body's, it is raised to 2 cm above the highest one over the same footprint.
         position: DVec3,
+        /// m/s
         velocity: DVec3,
     },
     /// An impulse (N·s) at a world point on body `body` (index into the snapshot's bodies).
+    /// Ignored for static bodies, out-of-range indices and non-finite vectors.
     ApplyImpulse {
+        /// Index into the snapshot's bodies.
         body: usize,
+        /// N·s, world axes.
         impulse: DVec3,
+        /// Where it acts, world coordinates, m.
         point: DVec3,
     },
     /// Takes body `body` (index into the snapshot's bodies) out of the world; what rested on
     /// it wakes and falls.
     RemoveBody {
+        /// Index into the snapshot's bodies.
         body: usize,
     },
     /// Writes the world, with the scene name and hidden bodies, to a file (see `SavedWorld`).
@@ -95,6 +121,6 @@ pub enum Command {
     LoadWorld(PathBuf),
     /// Writes the scene and every command applied so far, for replay (see `recording`).
     SaveRecording(PathBuf),
-    /// Ends the thread.
+    /// Ends the simulation: the thread returns, or the browser's loop stops stepping.
     Quit,
 }

@@ -15,6 +15,7 @@ const MAX_STEPS_PER_BATCH: u32 = 64;
 /// How long a driver may wait when there is nothing to step (paused or time scale 0).
 pub const IDLE_WAIT: Duration = Duration::from_millis(50);
 
+/// Turns wall time into a whole number of fixed steps; see the module.
 pub struct FixedStepClock {
     accumulator: f64,
     last: Instant,
@@ -23,12 +24,14 @@ pub struct FixedStepClock {
 /// What one batch did.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Batch {
+    /// Fixed steps taken in the batch.
     pub steps: u32,
     /// A step panicked: the simulation is stopped with the message (see `guarded`).
     pub failed: bool,
 }
 
 impl FixedStepClock {
+    /// A clock with nothing due, counting wall time from `now`.
     pub fn new(now: Instant) -> FixedStepClock {
         FixedStepClock {
             accumulator: 0.0,

@@ -17,6 +17,7 @@ use crate::sim::snapshot::Snapshot;
 /// so a heavy scene slows simulated time down instead of freezing the page.
 const FRAME_STEP_BUDGET: Duration = Duration::from_millis(10);
 
+/// The browser's driver: the simulation and its clock, stepped by `pump` on the page's thread.
 pub struct FrameLoop {
     state: RefCell<State>,
     inbox: RefCell<Vec<Command>>,
@@ -31,6 +32,8 @@ struct State {
 }
 
 impl FrameLoop {
+    /// Takes over the simulation; nothing steps until the first `pump`. Never fails: the
+    /// `Result` matches `SimHandle::start`.
     pub fn start(sim: Simulation) -> Result<FrameLoop, String> {
         let now = Instant::now();
         let latest = Arc::new(sim.snapshot(now));
@@ -50,6 +53,7 @@ impl FrameLoop {
         self.inbox.borrow_mut().push(command);
     }
 
+    /// The newest snapshot; always `Some`.
     pub fn latest(&self) -> Option<Arc<Snapshot>> {
         Some(self.state.borrow().latest.clone())
     }

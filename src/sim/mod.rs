@@ -34,5 +34,6 @@ pub use thread::SimHandle;
 /// gives the page one thread that must never block, the loop its animation frames pump.
 #[cfg(not(target_arch = "wasm32"))]
 pub type Driver = SimHandle;
+/// What the viewer drives: in the browser, the loop its animation frames pump.
 #[cfg(target_arch = "wasm32")]
 pub type Driver = FrameLoop;

@@ -13,7 +13,10 @@ use crate::sim::command::Command;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RecordedCommand {
+    /// Fixed steps the run had taken when the command was applied, counted from its start
+    /// across resets and scene loads.
     pub tick: u64,
+    /// What was applied.
     pub command: Command,
 }
 
@@ -21,12 +24,16 @@ pub struct RecordedCommand {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Recording {
+    /// The scene the run started with: a built-in name or a scene file path.
     pub scene: String,
+    /// Fixed steps the run took; no command may have a later tick.
     pub ticks: u64,
+    /// In tick order; commands of the same tick in the order they were applied.
     pub commands: Vec<RecordedCommand>,
 }
 
 impl Recording {
+    /// The recording as the RON text `save` writes.
     pub fn to_ron(&self) -> String {
         let config = ron::ser::PrettyConfig::new().depth_limit(2);
         ron::ser::to_string_pretty(self, config).expect("a recording is plain data")
@@ -51,10 +58,12 @@ impl Recording {
         Ok(recording)
     }
 
+    /// Writes the recording to `path`; the error names the path.
     pub fn save(&self, path: &Path) -> Result<(), String> {
         std::fs::write(path, self.to_ron()).map_err(|e| format!("{}: {e}", path.display()))
     }
 
+    /// Reads and checks a recording file (see `from_ron`); errors name the file.
     pub fn load(path: &Path) -> Result<Recording, String> {
         let file = path.display().to_string();
         let text = crate::input_file::read_text(path).map_err(|e| format!("{file}: {e}"))?;

@@ -7,9 +7,12 @@ use serde::{Deserialize, Serialize};
 
 use crate::physics::WorldSnapshot;
 
+/// A saved world file (RON), as `Command::SaveWorld` writes it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SavedWorld {
+    /// The built-in scene name or scene file path the world came from: loading takes the
+    /// camera from it when it still builds, and `Reset` afterwards rebuilds it.
     pub scene: String,
     /// The fixed step the world was running at, s.
     pub dt: f64,
@@ -18,10 +21,12 @@ pub struct SavedWorld {
     /// By body index, the scene's material names (absent in worlds saved before they were).
     #[serde(default)]
     pub materials: Vec<String>,
+    /// The engine's whole state: time, settings, forces and bodies (see `WorldSnapshot`).
     pub world: WorldSnapshot,
 }
 
 impl SavedWorld {
+    /// Writes the file to `path`; the error names the path.
     pub fn save(&self, path: &Path) -> Result<(), String> {
         let config = ron::ser::PrettyConfig::new().depth_limit(4);
         let text = ron::ser::to_string_pretty(self, config).expect("a saved world is plain data");

@@ -10,14 +10,18 @@ pub use crate::scene::DEFAULT_SCENE;
 /// Where the camera starts: it looks from `eye` at `target`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraHint {
+    /// Camera position, m.
     pub eye: Vec3,
+    /// The point it looks at, m.
     pub target: Vec3,
 }
 
 /// A world ready to run, with the camera that frames it.
 #[derive(Clone, Debug)]
 pub struct SceneSetup {
+    /// The world to run: built from a scene, or restored from a saved world.
     pub world: World,
+    /// Where the camera starts.
     pub camera: CameraHint,
     /// Per body index: simulated but not drawn.
     pub hidden: Vec<bool>,

@@ -40,6 +40,8 @@ const RATE_WINDOW: Duration = Duration::from_millis(250);
 const DT_RANGE: (f64, f64) = (1e-4, 0.05);
 const TIME_SCALE_RANGE: (f64, f64) = (0.0, 10.0);
 
+/// A world with the viewer's run settings, the log of commands applied to it, and what its
+/// snapshots need (shapes, previous poses, history). Stepped by calling `step`.
 pub struct Simulation {
     /// The scene the simulation started with: where a replay starts.
     first_scene: String,
@@ -74,6 +76,9 @@ pub struct Simulation {
 }
 
 impl Simulation {
+    /// Builds a built-in scene by name, or a scene file by path; errors name the file, body
+    /// and field. Runs at dt = 1/120 s (not the scene's `settings.dt`),
+    /// time scale 1, unpaused.
     pub fn new(scene: &str) -> Result<Simulation, String> {
         let setup = scenes::build(scene)?;
         let settings = SimSettings {
@@ -121,6 +126,7 @@ impl Simulation {
         Ok(sim)
     }
 
+    /// The world being stepped.
     pub fn world(&self) -> &World {
         &self.world
     }
@@ -139,6 +145,7 @@ impl Simulation {
         }
     }
 
+    /// The run settings in force.
     pub fn settings(&self) -> &SimSettings {
         &self.settings
     }

@@ -16,7 +16,9 @@ pub const MAX_FAULTS_SHOWN: usize = 8;
 /// Position of the shape's own origin and its orientation: what a mesh needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BodyPose {
+    /// World position of the shape's origin, m.
     pub position: Vec3,
+    /// Shape frame to world.
     pub rotation: Quat,
 }
 
@@ -30,8 +32,10 @@ impl BodyPose {
     }
 }
 
+/// One body as the viewer draws and lists it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BodyState {
+    /// The pose at the newest step.
     pub pose: BodyPose,
     /// The pose one step earlier, to interpolate between steps.
     pub previous: BodyPose,
@@ -41,23 +45,30 @@ pub struct BodyState {
     pub aabb: (Vec3, Vec3),
     /// Radius of a sphere around the shape origin that holds the body.
     pub bounding_radius: f32,
+    /// World position of the centre of mass, m.
     pub center_of_mass: Vec3,
     /// kg; 0 for static bodies.
     pub mass: f32,
+    /// False for static bodies and for those taken out of the world (removed or isolated).
     pub is_dynamic: bool,
     /// Asleep: drawn in the sleep colour.
     pub sleeping: bool,
     /// False for bodies the scene hides (simulated, not drawn, not pickable).
     pub visible: bool,
+    /// Velocity of the centre of mass, m/s.
     pub velocity: Vec3,
+    /// rad/s, world axes.
     pub angular_velocity: Vec3,
 }
 
 /// A coloured line in world space, drawn as an overlay (contact normals, debug vectors).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LineSegment {
+    /// One end, world coordinates, m.
     pub from: Vec3,
+    /// The other end, world coordinates, m.
     pub to: Vec3,
+    /// Red, green, blue, each in [0, 1].
     pub color: [f32; 3],
 }
 
@@ -65,18 +76,25 @@ pub struct LineSegment {
 /// renderer rebuilds its meshes only then.
 #[derive(Clone, Debug, Default)]
 pub struct ShapeTable {
+    /// Grows whenever `shapes` changes.
     pub generation: u64,
+    /// Each distinct shape once, indexed by `BodyState::shape_id`.
     pub shapes: Arc<Vec<Shape>>,
 }
 
+/// The figures the panel shows about the run and its last step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Counters {
+    /// The world's simulated time, s: 0 after a reset or scene load, restored with a saved
+    /// world.
     pub sim_time: f64,
+    /// Steps the world has taken, counted like `sim_time`.
     pub steps: u64,
     /// Steps per wall-clock second, averaged over the last quarter second.
     pub step_rate: f64,
     /// Mean wall time of one `World::step` over the same window, s.
     pub step_wall_time: f64,
+    /// Bodies in the world, static, removed and isolated ones included.
     pub bodies: usize,
     /// Dynamic bodies not asleep.
     pub awake: usize,
@@ -88,28 +106,42 @@ pub struct Counters {
     pub max_penetration: f64,
     /// Where the last step's time went.
     pub stages: StageTimes,
+    /// Translational and rotational, summed over the dynamic bodies, J.
     pub kinetic_energy: f64,
+    /// In the gravity fields, zero at the world origin, summed over the dynamic bodies, J.
     pub potential_energy: f64,
+    /// Length of the dynamic bodies' total momentum, kg·m/s.
     pub linear_momentum: f64,
+    /// Length of their total angular momentum about the world origin, kg·m²/s.
     pub angular_momentum: f64,
 }
 
-/// One point of the plotted history.
+/// One point of the plotted history: the [`Counters`] of the same names at `time`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HistorySample {
+    /// Simulated time, s.
     pub time: f64,
+    /// J
     pub kinetic_energy: f64,
+    /// J
     pub potential_energy: f64,
+    /// kg·m/s
     pub linear_momentum: f64,
+    /// kg·m²/s
     pub angular_momentum: f64,
+    /// m
     pub max_penetration: f64,
 }
 
 /// One of the scene's materials as its bodies have it now.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MaterialSummary {
+    /// A key of the scene's `materials`, `own: BODY` for a body's inline material, or
+    /// `spawned` for the bodies spawned from the panel.
     pub name: String,
+    /// Restitution of its first body.
     pub restitution: f64,
+    /// Friction coefficient of its first body.
     pub friction: f64,
     /// Bodies made of it.
     pub bodies: usize,
@@ -118,26 +150,45 @@ pub struct MaterialSummary {
 /// The settings in force, so the UI shows what the simulation really uses.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SimSettings {
+    /// Fixed step, s.
     pub dt: f64,
+    /// Simulated seconds per wall-clock second.
     pub time_scale: f64,
+    /// The clock is stopped; `StepOnce` still steps.
     pub paused: bool,
+    /// The gravity field's acceleration, m/s²: the scene's first (zero if it has none), or
+    /// the one last set.
     pub gravity: glam::DVec3,
+    /// How orientations are advanced.
     pub integrator: Integrator,
+    /// How contacts are handled.
     pub pipeline: Pipeline,
+    /// How candidate pairs are found.
     pub broad_phase: BroadPhaseKind,
+    /// Substeps (soft pipeline) or slices (classic) per step.
     pub substeps: u32,
+    /// Bodies at rest may fall asleep.
     pub sleeping: bool,
+    /// Given to spawned bodies: the last value set for every body, or after a scene load
+    /// that of its first dynamic body.
     pub restitution: f64,
+    /// Given to spawned bodies, like `restitution`.
     pub friction: f64,
 }
 
+/// The run at one moment, as the viewer draws and lists it; a new one is published after
+/// each batch of steps or commands.
 #[derive(Clone, Debug)]
 pub struct Snapshot {
+    /// The built-in scene name or scene file path the world came from.
     pub scene: String,
     /// Changes on every reset or scene load (the UI re-frames the camera then).
     pub world_generation: u64,
+    /// Where the scene's camera starts.
     pub camera: CameraHint,
+    /// By body index, as in the world.
     pub bodies: Vec<BodyState>,
+    /// The shapes `bodies` refer to.
     pub shapes: ShapeTable,
     /// Broad-phase boxes (min, max) of the bodies awake in the last step.
     pub broad_phase_boxes: Vec<(Vec3, Vec3)>,
@@ -145,20 +196,26 @@ pub struct Snapshot {
     pub broad_phase_cells: Vec<(Vec3, Vec3)>,
     /// Contact points (small crosses) and normals of the last step.
     pub lines: Vec<LineSegment>,
+    /// Figures of the run and its last step.
     pub counters: Counters,
     /// The materials by name, in the order their first body appears.
     pub materials: Vec<MaterialSummary>,
+    /// Oldest first: a sample every 1/30 s of simulated time, the last 600 (20 s).
     pub history: Vec<HistorySample>,
+    /// The settings in force.
     pub settings: SimSettings,
     /// Why the last command failed (an unknown scene, an invalid spawn), if it did.
     pub message: Option<String>,
     /// Bodies whose state went non-finite, isolated from the rest of the world (oldest
-    /// first, the newest `MAX_FAULTS_SHOWN`), and how many there were in all.
+    /// first, the newest `MAX_FAULTS_SHOWN`).
     pub faults: Vec<Fault>,
+    /// How many faults there were in all, listed or not.
     pub fault_count: usize,
-    /// When the newest step was taken, and the wall time one step stands for, so a frame can
-    /// place itself between `previous` and `pose`.
+    /// When the newest step was taken, so a frame can place itself between `previous` and
+    /// `pose` (see `blend_factor`).
     pub published_at: Instant,
+    /// The wall time one step stands for at the current time scale, s; 0 when the time
+    /// scale is 0.
     pub step_interval: f64,
 }
 

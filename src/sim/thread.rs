@@ -56,6 +56,7 @@ impl SimHandle {
         let _ = self.commands.send(command);
     }
 
+    /// The newest published snapshot; `None` only if a thread panicked holding its lock.
     pub fn latest(&self) -> Option<Arc<Snapshot>> {
         self.latest.lock().ok().and_then(|slot| slot.clone())
     }

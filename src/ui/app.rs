@@ -20,7 +20,9 @@ use crate::ui::drag::Drag;
 use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel};
 use crate::ui::picking::{self, Pick};
 
+/// How to start the viewer.
 pub struct AppOptions {
+    /// A built-in scene's name or the path of a scene file.
     pub scene: String,
     /// Close after this many seconds.
     pub exit_after: Option<f64>,

@@ -15,12 +15,17 @@ use crate::render::{FrameInput, SceneRenderer};
 
 /// What egui produced for one frame, ready to draw.
 pub struct UiFrame {
+    /// The tessellated panel, in egui points.
     pub paint_jobs: Vec<egui::ClippedPrimitive>,
+    /// Texture uploads and frees to apply with this frame.
     pub textures: egui::TexturesDelta,
+    /// Physical pixels per egui point (the window's scale factor).
     pub pixels_per_point: f32,
 }
 
+/// A window with everything needed to draw the scene and the panel into it.
 pub struct Display {
+    /// The window drawn into.
     pub window: Arc<Window>,
     gpu: Gpu,
     surface: WindowSurface,
@@ -29,6 +34,8 @@ pub struct Display {
 }
 
 impl Display {
+    /// Opens a device for `window` and configures its surface to the window's size. The
+    /// error says what is missing (adapter, surface, colour format or device).
     pub async fn new(window: Arc<Window>) -> Result<Display, String> {
         let (gpu, mut surface) = Gpu::for_window(window.clone()).await?;
         let size = window.inner_size();
@@ -48,14 +55,19 @@ impl Display {
         })
     }
 
+    /// One line naming the graphics adapter.
     pub fn describe(&self) -> String {
         self.gpu.describe()
     }
 
+    /// The largest 2D texture side the device allows, in pixels (egui sizes its font atlas
+    /// to it).
     pub fn max_texture_side(&self) -> usize {
         self.gpu.device.limits().max_texture_dimension_2d as usize
     }
 
+    /// Reconfigures the surface to the window's current size, after a resize or a scale
+    /// change; a zero size leaves it unconfigured.
     pub fn resize(&mut self) {
         let size = self.window.inner_size();
         self.surface.resize(&self.gpu, size.width, size.height);
@@ -67,7 +79,8 @@ impl Display {
         (size.width, size.height)
     }
 
-    /// Draws and presents one frame; with `capture`, also returns it as an image.
+    /// Draws and presents one frame; with `capture`, also returns it as an image of the
+    /// window's size. The error comes from reading the captured image back.
     pub fn draw(
         &mut self,
         frame: &FrameInput,

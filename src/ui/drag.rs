@@ -15,8 +15,11 @@ const DAMPING: f32 = 15.5;
 const MAX_FRAME: f32 = 1.0 / 20.0;
 const SPRING_COLOR: [f32; 3] = [1.0, 1.0, 1.0];
 
+/// A body held by the mouse: the grabbed point follows the cursor at the depth it was
+/// grabbed at.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Drag {
+    /// Index into the snapshot's bodies.
     pub body: usize,
     /// The grabbed point in the body's own frame.
     local_anchor: Vec3,
@@ -25,6 +28,7 @@ pub struct Drag {
 }
 
 impl Drag {
+    /// Grabs the picked point of `pick.body`, drawn at `pose`.
     pub fn start(pick: &Pick, pose: &BodyPose) -> Drag {
         Drag {
             body: pick.body,

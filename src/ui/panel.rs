@@ -8,6 +8,7 @@ use crate::render::Overlays;
 use crate::sim::{Command, Snapshot, SpawnKind, scene_names};
 use crate::ui::plots;
 
+/// Width of the control panel, egui points.
 pub const PANEL_WIDTH: f32 = 290.0;
 
 /// Where the panel's buttons save (and load) the world and the session's recording, relative
@@ -20,12 +21,14 @@ const RECORDING_FILE: &str = "rigid-recording.ron";
 /// Rates measured on the render side.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameStats {
+    /// Frames drawn per second, over the last quarter-second window.
     pub frames_per_second: f64,
 }
 
 /// The values the widgets edit. They are copied from the snapshot whenever the world is
 /// rebuilt (reset, scene change), so the panel always shows what the simulation uses.
 pub struct Panel {
+    /// The overlay switches; the viewer draws with these.
     pub overlays: Overlays,
     scene: String,
     gravity: [f64; 3],

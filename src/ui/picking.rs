@@ -13,16 +13,19 @@ use crate::sim::snapshot::BodyPose;
 /// How far a pick reaches, m.
 const PICK_RANGE: f64 = 1e4;
 
+/// A body hit by a ray, and where.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pick {
+    /// Index into the snapshot's bodies.
     pub body: usize,
     /// Where the ray meets the body's surface, world space.
     pub point: Vec3,
-    /// Distance along the ray to `point`.
+    /// Distance along the ray to `point`, m.
     pub distance: f32,
 }
 
-/// The nearest body the ray hits, with bodies drawn at `poses`.
+/// The nearest visible body the ray hits within 10 km, with bodies drawn at `poses` (one
+/// per body of `snapshot`).
 pub fn pick(ray: &Ray, snapshot: &Snapshot, poses: &[BodyPose]) -> Option<Pick> {
     snapshot
         .bodies

@@ -7,6 +7,7 @@ use crate::sim::HistorySample;
 
 const PLOT_HEIGHT: f32 = 110.0;
 
+/// Kinetic, potential and total energy (J) against sim time (s).
 pub fn energy(ui: &mut egui::Ui, history: &[HistorySample]) {
     plot(
         ui,
@@ -20,6 +21,8 @@ pub fn energy(ui: &mut egui::Ui, history: &[HistorySample]) {
     );
 }
 
+/// The magnitudes of the total linear (kg·m/s) and angular (kg·m²/s) momentum against sim
+/// time (s).
 pub fn momentum(ui: &mut egui::Ui, history: &[HistorySample]) {
     plot(
         ui,
@@ -32,6 +35,7 @@ pub fn momentum(ui: &mut egui::Ui, history: &[HistorySample]) {
     );
 }
 
+/// The deepest contact overlap (mm), from the step before each sample, against sim time (s).
 pub fn penetration(ui: &mut egui::Ui, history: &[HistorySample]) {
     plot(
         ui,

@@ -20,7 +20,11 @@ use crate::physics::dynamics::body::BodyId;
     Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
 )]
 pub struct FeatureId {
+    /// A's feature: a face, vertex or edge index, its kind (and its part, in a compound)
+    /// tagged in the high bits; 0 but for a part's tag where the contact names no feature
+    /// of A, as between closest points.
     pub on_a: u32,
+    /// B's feature, numbered as `on_a`.
     pub on_b: u32,
 }
 
@@ -35,6 +39,8 @@ pub enum ContactKind {
     Closest,
 }
 
+/// One contact point between two bodies, in world coordinates (conventions in the module
+/// comment).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Contact {
     /// World position, midway between the two surfaces.
@@ -43,7 +49,9 @@ pub struct Contact {
     pub normal: DVec3,
     /// Signed distance along the normal; negative means penetration.
     pub separation: f64,
+    /// Which kind of feature pair touches here.
     pub kind: ContactKind,
+    /// Which features touch, so that this contact is found again next step.
     pub feature: FeatureId,
     /// Time of impact within the step (s from the start of the step); 0 for contacts found
     /// at the current configuration.
@@ -65,8 +73,11 @@ impl Contact {
 /// All contacts between one pair of bodies, sharing one normal (from A to B).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ContactManifold {
+    /// Body A: the normals point away from it.
     pub body_a: BodyId,
+    /// Body B: the normals point towards it.
     pub body_b: BodyId,
+    /// Unit, from A to B, world: the deepest contact's normal.
     pub normal: DVec3,
     /// At most `MAX_MANIFOLD_POINTS`, deepest first.
     pub contacts: ManifoldPoints,
@@ -76,8 +87,8 @@ pub struct ContactManifold {
 pub const MAX_MANIFOLD_POINTS: usize = 4;
 
 /// A manifold's contacts, held inline: every pair's manifold is built anew or carried over
-/// at every step, and allocating and freeing each one's list took 4 % of a rain's
-/// instructions. Moving the larger manifolds costs back most of that: 1 % net.
+/// at every step, and allocating and freeing a list for each one cost more than moving the
+/// larger inline manifolds does (BENCHMARKS.md, "Inline manifold points").
 pub type ManifoldPoints = SmallVec<[Contact; MAX_MANIFOLD_POINTS]>;
 
 impl ContactManifold {

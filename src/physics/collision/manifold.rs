@@ -880,8 +880,9 @@ fn round_contacts(a: &PosedShape, b: &PosedShape, margin: f64, extra: &mut Conta
 
 /// How far above the true gap a contact's separation may be, as a fraction of the pair's
 /// size: 0.3 µm on the rain's bodies, against a solver that holds contacts to millimetres.
-/// GJK closes on a curved shape's distance by halves: a cylinder's pairs took 15 to 22
-/// iterations to round-off, and this stops them about 4 to 8 iterations earlier.
+/// GJK closes on a curved shape's distance by halves, so stopping at this accuracy rather
+/// than at round-off spares a curved pair several iterations (BENCHMARKS.md, "Contact
+/// accuracy and GJK iterations").
 const CONTACT_ACCURACY: f64 = 1e-6;
 
 /// The closest pair of points (GJK, or EPA when the cores overlap) as one contact.
@@ -976,8 +977,9 @@ const CAP_TAG: u32 = 3 << 28;
 /// most against the cap, clipped to the cap's disc. The rim points of `extra_points` only
 /// sample the disc's edge, so a cap resting across a box's edge or corner had the box's
 /// corners under it unsupported but for the one deepest point: it tipped over them and sank
-/// up to 8 cm into the box in the rain scenes. The face's vertices inside the disc and its
-/// edges' crossings of the rim (up to 4 + 8 for a box face) are the patch's other corners.
+/// into the box (BENCHMARKS.md, "Cylinder caps on box edges"). The face's vertices inside
+/// the disc and its edges' crossings of the rim (up to 4 + 8 for a box face) are the
+/// patch's other corners.
 /// `normal` points away from `cylinder`; points deeper than `deepest_allowed` are left out.
 fn add_cap_contacts(
     (cylinder, other, normal): (&PosedShape, &PosedShape, DVec3),

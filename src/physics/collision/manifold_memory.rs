@@ -29,9 +29,9 @@ use crate::physics::dynamics::body::{BodyId, RigidBody};
 /// manifold was generated for it to be carried. A tenth of the speculative distance, so that
 /// nothing the generation left out can come into contact meanwhile. Carried contacts sit
 /// where generated ones would to within this distance along the surfaces; their depths are
-/// off by its square over the radius of curvature at most (13 µm on a 15 cm radius).
-/// Against 1 mm it halved the regenerations on a landed rain of 1000 (7 % fewer
-/// instructions in all) at the same accuracy.
+/// off by half its square over the radius of curvature at most (13 µm on a 15 cm radius).
+/// It is larger than 1 mm because that regenerated many more of a landed pile's manifolds,
+/// at no better accuracy (BENCHMARKS.md, "Manifold reuse distance").
 pub const REUSE_DISTANCE: f64 = 2e-3;
 
 /// One contact in the frames of its bodies.
@@ -215,8 +215,8 @@ impl ManifoldMemory {
     }
 
     /// `find`, starting where the last search left `cursor` (see `sorted_seek`): the
-    /// narrow phase asks for its pairs in ascending order. Walking replaced a binary search
-    /// of about 13 probes per pair (2 % of a rain's instructions).
+    /// narrow phase asks for its pairs in ascending order, so walking on from the last
+    /// pair beats a binary search per pair (BENCHMARKS.md, "Seeking remembered manifolds").
     pub fn find_from(
         &self,
         a: BodyId,

@@ -12,26 +12,29 @@ use crate::physics::geometry::mass::MassProperties;
 use crate::physics::geometry::nearest_surface::NearestSurface;
 use crate::physics::geometry::shape::{Shape, ShapeError};
 
-/// Index of a body in its world.
+/// Index of a body in its world, as `World::add_body` hands it out. Ids stay valid for the
+/// world's life: a removed body keeps its slot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct BodyId(pub u32);
 
 impl BodyId {
+    /// The id as an index into `World::bodies`.
     pub fn index(self) -> usize {
         self.0 as usize
     }
 }
 
 /// Surface and bulk properties. Pairs combine them as documented in the contact solvers
-/// (restitution: the smaller of the two, as in the report).
+/// (restitution: the smaller of the two, as in the report; friction: the geometric mean
+/// √(μa μb)).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
-    /// kg/m³
+    /// Density, kg/m³, > 0: gives the mass unless `BodyDesc::mass` overrides it.
     pub density: f64,
     /// Newton's coefficient of restitution ε, in [0, 1].
     pub restitution: f64,
-    /// Coulomb friction coefficient μ, ≥ 0.
+    /// Coulomb friction coefficient μ, in [0, 10].
     pub friction: f64,
 }
 
@@ -45,6 +48,7 @@ impl Default for Material {
     }
 }
 
+/// How a body takes part in the simulation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Motion {
     /// Moves under forces and contacts.
@@ -66,32 +70,51 @@ impl Motion {
     }
 }
 
+/// A body of a world, in the report's state form: centre of mass `position`, `orientation`
+/// matrix, `linear_momentum` and `angular_momentum` (world frame), with its inverse mass
+/// and inverse inertia. Velocities are derived from the momenta and never stored.
+///
+/// Bodies are made from a [`BodyDesc`] by `World::add_body`, read with `World::body` and
+/// changed through `World::body_mut`; the next step looks at a changed body again. Prefer
+/// the methods to writing fields: `set_velocity`, `set_angular_velocity` and
+/// `apply_impulse_at` convert to momenta and wake the body; `apply_force` and
+/// `apply_force_at` act over the next step (and wake a sleeping body then). After writing
+/// `orientation` (a rotation matrix), call `refresh_world_inertia`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RigidBody {
+    /// The name given in its `BodyDesc` (may be empty), used in errors and `Fault`s.
     pub name: String,
+    /// The shape, in shape coordinates (see `local_center`).
     pub shape: Shape,
+    /// Density, restitution and friction.
     pub material: Material,
+    /// Whether the body moves, stays put, or has been taken out.
     pub motion: Motion,
     /// Centre of mass in shape coordinates: the shape's origin is at
     /// `position - orientation * local_center`.
     pub local_center: DVec3,
 
-    /// Centre of mass C, world.
+    /// Centre of mass C, world, m.
     pub position: DVec3,
     /// R: its columns are the body's axes in world coordinates.
     pub orientation: DMat3,
-    /// L = m v
+    /// L = m v, world, kg·m/s.
     pub linear_momentum: DVec3,
-    /// World angular momentum A = I_world ω.
+    /// Angular momentum about the centre of mass A = I_world ω, world, kg·m²/s.
     pub angular_momentum: DVec3,
 
+    /// 1/m, 1/kg; zero for a body created static.
     pub inv_mass: f64,
+    /// I⁻¹ about the centre of mass in body axes, 1/(kg·m²); zero for a body created
+    /// static.
     pub inv_inertia_local: DMat3,
     /// R I⁻¹ Rᵀ: auxiliary, refreshed whenever the orientation changes.
     pub inv_inertia_world: DMat3,
 
-    /// Accumulated over one step, cleared after integration.
+    /// Force through the centre of mass, world, N, accumulated for the next step, which
+    /// applies it and clears it.
     pub force: DVec3,
+    /// Torque about the centre of mass, world, N·m; accumulated and cleared with `force`.
     pub torque: DVec3,
 
     /// Asleep: neither integrated nor solved until something wakes it (see `islands`).
@@ -100,44 +123,79 @@ pub struct RigidBody {
     pub quiet_time: f64,
 }
 
-/// Everything needed to create a body. The pose places the shape's own frame.
+/// Everything needed to create a body (`World::add_body`), built from `dynamic` or `fixed`
+/// and the `with_*` methods. The pose places the shape's own frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BodyDesc {
+    /// Names the body in errors and `Fault`s; may be empty.
     pub name: String,
+    /// The shape, in its own coordinates.
     pub shape: Shape,
+    /// Density, restitution and friction.
     pub material: Material,
+    /// `Dynamic` or `Static` (the other kinds are states a world puts bodies in).
     pub motion: Motion,
-    /// Overrides the mass from density while keeping the shape's mass distribution.
+    /// Overrides the mass from density, kg, while keeping the shape's mass distribution.
     pub mass: Option<f64>,
+    /// Where the shape's origin is, world, m (not the centre of mass).
     pub position: DVec3,
+    /// Orientation of the shape's frame; normalised on creation, must not be zero.
     pub rotation: DQuat,
+    /// Initial velocity of the centre of mass, world, m/s; ignored for static bodies.
     pub velocity: DVec3,
+    /// Initial angular velocity, world, rad/s; ignored for static bodies.
     pub angular_velocity: DVec3,
 }
 
+/// Why `BodyDesc::validate` refused a description. `body` is the body's name and `field`
+/// the offending field as `BodyDesc` spells it (`"material.friction"`).
 #[derive(Debug, Error, PartialEq)]
 pub enum BodyError {
+    /// The shape is not valid.
     #[error("body '{body}': shape: {source}")]
-    Shape { body: String, source: ShapeError },
+    Shape {
+        /// The body's name.
+        body: String,
+        /// What is wrong with the shape.
+        source: ShapeError,
+    },
+    /// A number is NaN or infinite, or the rotation quaternion is (nearly) zero.
     #[error("body '{body}': {field} must be finite")]
-    NotFinite { body: String, field: &'static str },
+    NotFinite {
+        /// The body's name.
+        body: String,
+        /// The field.
+        field: &'static str,
+    },
+    /// A density or mass is zero or negative.
     #[error("body '{body}': {field} must be positive, got {value}")]
     NotPositive {
+        /// The body's name.
         body: String,
+        /// The field.
         field: &'static str,
+        /// The value given.
         value: f64,
     },
+    /// A coefficient lies outside its range.
     #[error("body '{body}': {field} must lie in [{min}, {max}], got {value}")]
     OutOfRange {
+        /// The body's name.
         body: String,
+        /// The field.
         field: &'static str,
+        /// The value given.
         value: f64,
+        /// Lowest allowed value.
         min: f64,
+        /// Highest allowed value.
         max: f64,
     },
 }
 
 impl BodyDesc {
+    /// A dynamic body of `shape`: unnamed, at the origin, unrotated, at rest, with the
+    /// default material and its mass from density.
     pub fn dynamic(shape: Shape) -> Self {
         BodyDesc {
             name: String::new(),
@@ -152,6 +210,7 @@ impl BodyDesc {
         }
     }
 
+    /// As `dynamic`, but static: the body never moves (floors, walls).
     pub fn fixed(shape: Shape) -> Self {
         BodyDesc {
             motion: Motion::Static,
@@ -159,36 +218,43 @@ impl BodyDesc {
         }
     }
 
+    /// Sets `name`.
     pub fn named(mut self, name: impl Into<String>) -> Self {
         self.name = name.into();
         self
     }
 
+    /// Sets `position`: the shape's origin, world, m.
     pub fn at(mut self, position: DVec3) -> Self {
         self.position = position;
         self
     }
 
+    /// Sets `rotation`.
     pub fn rotated(mut self, rotation: DQuat) -> Self {
         self.rotation = rotation;
         self
     }
 
+    /// Sets `velocity`, m/s.
     pub fn with_velocity(mut self, velocity: DVec3) -> Self {
         self.velocity = velocity;
         self
     }
 
+    /// Sets `angular_velocity`, rad/s.
     pub fn with_angular_velocity(mut self, angular_velocity: DVec3) -> Self {
         self.angular_velocity = angular_velocity;
         self
     }
 
+    /// Sets `material`.
     pub fn with_material(mut self, material: Material) -> Self {
         self.material = material;
         self
     }
 
+    /// Sets `mass`, kg, in place of the mass from density.
     pub fn with_mass(mut self, mass: f64) -> Self {
         self.mass = Some(mass);
         self
@@ -335,6 +401,7 @@ impl RigidBody {
         Ok(body)
     }
 
+    /// Moved by forces and contacts (`Motion::Dynamic`), asleep or not.
     pub fn is_dynamic(&self) -> bool {
         self.motion == Motion::Dynamic
     }
@@ -344,6 +411,7 @@ impl RigidBody {
         self.is_dynamic() && !self.sleeping
     }
 
+    /// Wakes the body and restarts its quiet time; the momenta are left as they are.
     pub fn wake(&mut self) {
         self.sleeping = false;
         self.quiet_time = 0.0;
@@ -356,6 +424,7 @@ impl RigidBody {
         self.angular_momentum = DVec3::ZERO;
     }
 
+    /// m, kg; infinite when the inverse mass is zero (a static body).
     pub fn mass(&self) -> f64 {
         if self.inv_mass > 0.0 {
             1.0 / self.inv_mass
@@ -381,21 +450,23 @@ impl RigidBody {
         };
     }
 
-    /// v = L / m
+    /// v = L / m, world, m/s.
     pub fn velocity(&self) -> DVec3 {
         self.linear_momentum * self.inv_mass
     }
 
-    /// ω = I_world⁻¹ A
+    /// ω = I_world⁻¹ A, world, rad/s.
     pub fn angular_velocity(&self) -> DVec3 {
         self.inv_inertia_world * self.angular_momentum
     }
 
-    /// Velocity of the material point currently at world position `point`.
+    /// Velocity of the material point currently at world position `point`, m/s.
     pub fn point_velocity(&self, point: DVec3) -> DVec3 {
         self.velocity() + self.angular_velocity().cross(point - self.position)
     }
 
+    /// Sets the centre of mass's velocity, world, m/s (as L = m v) and wakes the body;
+    /// ignored unless the body is dynamic.
     pub fn set_velocity(&mut self, velocity: DVec3) {
         if self.is_dynamic() {
             self.linear_momentum = velocity * self.mass();
@@ -403,6 +474,8 @@ impl RigidBody {
         }
     }
 
+    /// Sets ω, world, rad/s (as A = I_world ω) and wakes the body; ignored unless the body
+    /// is dynamic.
     pub fn set_angular_velocity(&mut self, angular_velocity: DVec3) {
         if self.is_dynamic() {
             self.angular_momentum = self.inertia_world() * angular_velocity;
@@ -410,19 +483,19 @@ impl RigidBody {
         }
     }
 
-    /// A force through the centre of mass.
+    /// Adds a force through the centre of mass, world, N, for the next step.
     pub fn apply_force(&mut self, force: DVec3) {
         self.force += force;
     }
 
-    /// A force at a world point: τ = (x − C) × F.
+    /// Adds a force, N, at a world point for the next step: τ = (x − C) × F.
     pub fn apply_force_at(&mut self, force: DVec3, point: DVec3) {
         self.force += force;
         self.torque += (point - self.position).cross(force);
     }
 
-    /// An instantaneous change of momentum at a world point (a user's push: it wakes the
-    /// body). Static bodies ignore it.
+    /// An instantaneous change of momentum, N·s, at a world point (a user's push: it wakes
+    /// the body). Only dynamic bodies take it.
     pub fn apply_impulse_at(&mut self, impulse: DVec3, point: DVec3) {
         if self.is_dynamic() {
             self.linear_momentum += impulse;
@@ -431,7 +504,7 @@ impl RigidBody {
         }
     }
 
-    /// ½ m v² + ½ ω·A
+    /// ½ m v² + ½ ω·A, J; zero unless the body is dynamic.
     pub fn kinetic_energy(&self) -> f64 {
         if !self.is_dynamic() {
             return 0.0;
@@ -469,6 +542,7 @@ impl RigidBody {
             && self.angular_momentum.is_finite()
     }
 
+    /// Zeroes the accumulated force and torque.
     pub fn clear_accumulators(&mut self) {
         self.force = DVec3::ZERO;
         self.torque = DVec3::ZERO;

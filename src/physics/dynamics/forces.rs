@@ -8,19 +8,36 @@ use crate::physics::dynamics::body::RigidBody;
 /// Standard gravity, m/s².
 pub const STANDARD_GRAVITY: f64 = 9.81;
 
+/// A force field acting on every dynamic body through its centre of mass, v being the
+/// body's velocity; a world applies each of its `World::forces` at every (sub)step.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum EnvironmentForce {
     /// A uniform field: F = m g. Zero gives weightlessness, (0, −1.62, 0) the Moon.
-    Gravity { acceleration: DVec3 },
+    Gravity {
+        /// g, world, m/s².
+        acceleration: DVec3,
+    },
     /// Viscous drag F = −k v, k in N·s/m.
-    LinearDrag { coefficient: f64 },
+    LinearDrag {
+        /// k, N·s/m, ≥ 0.
+        coefficient: f64,
+    },
     /// Aerodynamic drag F = −c |v| v, c in N·s²/m².
-    QuadraticDrag { coefficient: f64 },
+    QuadraticDrag {
+        /// c, N·s²/m², ≥ 0.
+        coefficient: f64,
+    },
     /// Air moving at `velocity` drags bodies along: F = k (w − v), k in N·s/m.
-    Wind { velocity: DVec3, coefficient: f64 },
+    Wind {
+        /// w, the air's velocity, world, m/s.
+        velocity: DVec3,
+        /// k, N·s/m, ≥ 0.
+        coefficient: f64,
+    },
 }
 
 impl EnvironmentForce {
+    /// Gravity of `STANDARD_GRAVITY` along −y.
     pub fn earth_gravity() -> Self {
         EnvironmentForce::Gravity {
             acceleration: DVec3::new(0.0, -STANDARD_GRAVITY, 0.0),

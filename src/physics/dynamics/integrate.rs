@@ -17,21 +17,29 @@ use serde::{Deserialize, Serialize};
 
 use crate::physics::dynamics::body::{RigidBody, is_isotropic};
 
+/// How a body's orientation follows its angular velocity over a step (see the module
+/// comment); all share semi-implicit Euler on the momenta and the centre of mass.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Integrator {
+    /// The report's R += ω* R dt, then Gram-Schmidt re-orthonormalisation; first order.
     ReportEuler,
+    /// R turned exactly by exp(ω dt), ω taken at the orientation the step starts from.
     ExactRotation,
+    /// ω taken at the half-step orientation: second order, and a free spinning body keeps
+    /// its kinetic energy far better. The default.
     #[default]
     Midpoint,
 }
 
 impl Integrator {
+    /// Every integrator, in declaration order (for menus and sweeps).
     pub const ALL: [Integrator; 3] = [
         Integrator::ReportEuler,
         Integrator::ExactRotation,
         Integrator::Midpoint,
     ];
 
+    /// A snake-case label for menus and reports (scene files use the variant's name).
     pub fn name(self) -> &'static str {
         match self {
             Integrator::ReportEuler => "report_euler",
@@ -71,8 +79,8 @@ pub fn integrate_momenta(body: &mut RigidBody, dt: f64) {
 /// (unchanged when the orientation is).
 ///
 /// This and the rotations it calls are always inlined, so that the soft step's AVX2 variant
-/// (`solver::soft::step`) compiles them with its wider instructions: the pyramid's pose
-/// updates (4 substeps) went from about 20 M to 12 M instructions.
+/// (`solver::soft::step`) compiles them with its wider instructions, which makes the pose
+/// updates markedly cheaper (BENCHMARKS.md, "Pose updates in the AVX2 step").
 #[inline(always)]
 pub fn integrate_pose(body: &mut RigidBody, dt: f64, integrator: Integrator) {
     body.position += body.linear_momentum * body.inv_mass * dt;
@@ -116,8 +124,9 @@ const NEAR_UNIT: f64 = 1e-9;
 
 /// q / |q| for a quaternion that round-off has moved off unit length. The product of two
 /// unit quaternions is within a few units in the last place of it, and there
-/// q (3 − |q|²)/2 gives the same to round-off without the square root and the division
-/// (a tenth of the soft step's own instructions on a rain, at every midpoint iteration).
+/// q (3 − |q|²)/2 gives the same to round-off without the square root and the division,
+/// which took a large share of the soft step's own work on a rain, at every midpoint
+/// iteration (BENCHMARKS.md, "Quaternion renormalisation").
 #[inline(always)]
 fn renormalize(q: DQuat) -> DQuat {
     let excess = q.length_squared() - 1.0;
@@ -135,7 +144,8 @@ const SERIES_MAX_ANGLE: f64 = 0.2;
 /// The unit quaternion (sin(θ/2) v/θ, cos(θ/2)) of the rotation vector v, θ = |v|. A step
 /// turns a body by far less than SERIES_MAX_ANGLE, and there the series in z = θ²/4, cut
 /// where its next term is below 3e-18 of the sum, give the same values to round-off without
-/// the square root, sine and cosine (4 % of a rain's instructions went to them).
+/// the square root, sine and cosine, a noticeable share of a rain's whole step
+/// (BENCHMARKS.md, "Rotation series").
 #[inline(always)]
 fn rotation_of_vector(v: DVec3) -> DQuat {
     let angle_squared = v.length_squared();

@@ -13,9 +13,12 @@ use crate::physics::collision::contact::ContactManifold;
 use crate::physics::dynamics::body::{BodyId, RigidBody};
 use crate::physics::dynamics::union_find::UnionFind;
 
+/// When bodies fall asleep: an island of touching bodies sleeps once each of them has had
+/// less kinetic energy than ½ m v², v = `sleep_speed`, for `time_to_sleep`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SleepSettings {
+    /// Whether islands may sleep; switching it off wakes every body at the next step.
     pub enabled: bool,
     /// m/s: a body whose kinetic energy is below ½ m v² at this v is quiet.
     pub sleep_speed: f64,

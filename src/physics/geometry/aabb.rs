@@ -9,9 +9,13 @@ use serde::{Deserialize, Serialize};
 
 use crate::physics::geometry::shape::Shape;
 
+/// An axis-aligned box from `min` to `max`, in the frame of the points it bounds (world for
+/// bodies and broad-phase proxies). It is empty when `min` exceeds `max` on any axis.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Aabb {
+    /// The lowest corner: the smallest x, y and z of the box (m).
     pub min: DVec3,
+    /// The highest corner: the largest x, y and z of the box (m).
     pub max: DVec3,
 }
 
@@ -22,10 +26,12 @@ impl Aabb {
         max: DVec3::splat(f64::NEG_INFINITY),
     };
 
+    /// The box from `min` to `max`, as given: nothing checks that `min` ≤ `max`.
     pub fn new(min: DVec3, max: DVec3) -> Self {
         Aabb { min, max }
     }
 
+    /// The box reaching `half_extents` (m) either side of `center` along each axis.
     pub fn from_center_half_extents(center: DVec3, half_extents: DVec3) -> Self {
         Aabb::new(center - half_extents, center + half_extents)
     }
@@ -66,6 +72,7 @@ impl Aabb {
         self.union(&Aabb::new(self.min + displacement, self.max + displacement))
     }
 
+    /// The smallest box that holds both (`EMPTY` holds nothing, so it changes nothing).
     pub fn union(&self, other: &Aabb) -> Self {
         Aabb::new(self.min.min(other.min), self.max.max(other.max))
     }
@@ -76,18 +83,22 @@ impl Aabb {
         self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
     }
 
+    /// Whether `point` lies in the box; its boundary counts as inside.
     pub fn contains_point(&self, point: DVec3) -> bool {
         self.min.cmple(point).all() && point.cmple(self.max).all()
     }
 
+    /// Whether `other` lies entirely within this box; shared faces count as inside.
     pub fn contains(&self, other: &Aabb) -> bool {
         self.min.cmple(other.min).all() && other.max.cmple(self.max).all()
     }
 
+    /// The midpoint of `min` and `max`.
     pub fn center(&self) -> DVec3 {
         0.5 * (self.min + self.max)
     }
 
+    /// Half the box's size along each axis (m); negative on an axis where it is empty.
     pub fn half_extents(&self) -> DVec3 {
         0.5 * (self.max - self.min)
     }

@@ -14,8 +14,14 @@ use crate::physics::geometry::shape::Shape;
 /// A surface hit on one shape, before it is attached to a body.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShapeHit {
+    /// How far along the ray or cast direction the hit lies (m); 0 when the ray starts
+    /// inside the shape or the cast shapes already touch.
     pub distance: f64,
+    /// The hit point, world coordinates: on the target's surface, or within the overlap
+    /// when the ray or cast starts inside.
     pub point: DVec3,
+    /// Unit world normal of the target's surface at `point`, facing the ray or the moving
+    /// shape; the opposite of the direction when it starts inside.
     pub normal: DVec3,
 }
 

@@ -6,25 +6,33 @@ use serde::{Deserialize, Serialize};
 use crate::physics::geometry::mass::{MassProperties, parallel_axis_term};
 use crate::physics::geometry::shape::{Pose, Shape, ShapeError};
 
+/// One convex part of a compound.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CompoundPart {
+    /// Where the part's own shape frame sits in the compound's shape frame.
     pub pose: Pose,
     /// A convex shape: compounds do not nest.
     pub shape: Shape,
 }
 
+/// A concave shape as a union of convex parts in one shape frame. GJK on it sees the convex
+/// hull of the parts; contact generation and casts go through the parts one by one.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Compound {
+    /// The parts: at least one, and none itself a compound (see `validate`).
     pub parts: Vec<CompoundPart>,
 }
 
 impl Compound {
+    /// The compound of `parts`, if it passes `validate`.
     pub fn new(parts: Vec<CompoundPart>) -> Result<Self, ShapeError> {
         let compound = Compound { parts };
         compound.validate()?;
         Ok(compound)
     }
 
+    /// Checks that there is at least one part and that every part is convex, has a finite
+    /// pose and a valid shape; the error names the first part that fails.
     pub fn validate(&self) -> Result<(), ShapeError> {
         if self.parts.is_empty() {
             return Err(ShapeError::Compound("has no parts".into()));

@@ -15,16 +15,19 @@ use crate::physics::geometry::gjk::{
     CoreDistance, EXACT, Simplex, SupportMap, SupportPoint, gjk_core_distance_within,
 };
 
+/// How deep two overlapping shapes penetrate, along which direction, and where.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Penetration {
-    /// ≥ 0
+    /// How far B must move along `normal` (or A against it) for the shapes to touch, m; ≥ 0.
     pub depth: f64,
     /// Unit, from A towards B.
     pub normal: DVec3,
     /// The point of A deepest inside B, and the point of B deepest inside A (on the cores
-    /// when `epa` is called directly; `penetration` adds the margins).
+    /// when `epa` is called directly; `penetration` adds the margins). World coordinates.
     pub point_a: DVec3,
+    /// The point of B deepest inside A; see `point_a`.
     pub point_b: DVec3,
+    /// Iterations made: EPA's alone from `epa`, GJK's and EPA's together from `penetration`.
     pub iterations: u32,
 }
 
@@ -32,14 +35,21 @@ pub struct Penetration {
 /// the normal from A to B and the witness points on each shape.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SignedDistance {
+    /// The gap between the surfaces when positive, minus the penetration depth when
+    /// negative, m.
     pub distance: f64,
+    /// Unit, from A towards B: moving B by `-distance * normal` brings the shapes to
+    /// touching.
     pub normal: DVec3,
+    /// The witness point on A's surface, world.
     pub point_a: DVec3,
+    /// The witness point on B's surface, world.
     pub point_b: DVec3,
     /// GJK iterations plus EPA iterations.
     pub iterations: u32,
 }
 
+/// Most expansions EPA makes; past them it settles for the nearest face found so far.
 pub const EPA_MAX_ITERATIONS: u32 = 128;
 /// The support along the nearest face's normal must lie within this fraction of the size of
 /// M from the face (curved shapes only converge to a tolerance).

@@ -46,12 +46,16 @@ pub trait SupportMap {
 /// A shape placed in the world: its own origin at `origin`, its axes the columns of `rotation`.
 #[derive(Clone, Copy, Debug)]
 pub struct PosedShape<'a> {
+    /// The shape, in its own local frame.
     pub shape: &'a Shape,
+    /// Where the shape's own origin is, world coordinates (m).
     pub origin: DVec3,
+    /// The shape's orientation: its columns are the shape's axes in world coordinates.
     pub rotation: DMat3,
 }
 
 impl<'a> PosedShape<'a> {
+    /// `shape` with its own origin at `origin` and its axes the columns of `rotation`.
     pub fn new(shape: &'a Shape, origin: DVec3, rotation: DMat3) -> Self {
         PosedShape {
             shape,
@@ -60,6 +64,7 @@ impl<'a> PosedShape<'a> {
         }
     }
 
+    /// The same shape moved by `offset` (world, m), not turned.
     pub fn translated(self, offset: DVec3) -> Self {
         PosedShape {
             origin: self.origin + offset,
@@ -88,10 +93,12 @@ impl<'a> PosedShape<'a> {
         Some(parts)
     }
 
+    /// A point from shape coordinates to world coordinates.
     pub fn to_world(&self, local: DVec3) -> DVec3 {
         self.origin + self.rotation * local
     }
 
+    /// A direction from world coordinates to shape coordinates (rotated only).
     pub fn to_local_direction(&self, world: DVec3) -> DVec3 {
         self.rotation.transpose() * world
     }
@@ -186,7 +193,9 @@ pub fn shape_core_support(shape: &Shape, direction: DVec3) -> DVec3 {
 pub struct SupportPoint {
     /// w = a − b
     pub w: DVec3,
+    /// The support point of A's core along the search direction, world.
     pub a: DVec3,
+    /// The support point of B's core against the search direction, world.
     pub b: DVec3,
 }
 
@@ -206,8 +215,11 @@ impl SupportPoint {
 /// Up to four support points with the barycentric weights of the point closest to the origin.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Simplex {
+    /// The support points; only the first `len` belong to the simplex.
     pub points: [SupportPoint; 4],
+    /// The closest point's barycentric weights, one per point in use, summing to 1.
     pub weights: [f64; 4],
+    /// How many of `points` are in use, 1 to 4.
     pub len: usize,
 }
 
@@ -220,6 +232,7 @@ impl Simplex {
         }
     }
 
+    /// The support points in use.
     pub fn vertices(&self) -> &[SupportPoint] {
         &self.points[..self.len]
     }
@@ -258,14 +271,18 @@ impl Simplex {
 pub struct CoreDistance {
     /// Distance between the cores; 0 when they overlap.
     pub distance: f64,
-    /// Closest points of the cores (meaningless when `overlap`).
+    /// The closest point of A's core, world (meaningless when `overlap`).
     pub point_a: DVec3,
+    /// The closest point of B's core, world (meaningless when `overlap`).
     pub point_b: DVec3,
     /// Unit, from A's core towards B's (zero when they overlap).
     pub normal: DVec3,
     /// The cores overlap: the final simplex encloses (or touches) the origin.
     pub overlap: bool,
+    /// The last simplex, from which EPA starts when the cores overlap.
     pub simplex: Simplex,
+    /// GJK iterations made; 0 when two separate segment or point cores were measured in
+    /// closed form.
     pub iterations: u32,
 }
 
@@ -278,10 +295,14 @@ pub struct GjkResult {
     /// witnesses of the penetration (they have crossed); with overlapping cores, the core
     /// witnesses (use `epa::penetration` for a depth).
     pub point_a: DVec3,
+    /// The closest point on B, world; see `point_a`.
     pub point_b: DVec3,
     /// Unit vector from A to B along the closest points (zero when the cores overlap).
     pub normal: DVec3,
+    /// The shapes touch or overlap: the cores are no farther apart than the two margins.
     pub intersecting: bool,
+    /// GJK iterations made on the cores; 0 when two separate segment or point cores were
+    /// measured in closed form.
     pub iterations: u32,
 }
 

@@ -57,14 +57,19 @@ impl Tolerance {
 pub struct HullFace {
     /// Indices into `ConvexHull::vertices`, counter-clockwise seen from outside.
     pub vertices: Vec<u32>,
+    /// Unit outward normal, in shape coordinates.
     pub normal: DVec3,
+    /// The plane's offset from the shape origin along `normal` (m): `normal · x = offset`
+    /// for every point x of the face.
     pub offset: f64,
 }
 
 /// A closed convex polyhedron. Coplanar triangles are merged, so a box has 6 quad faces.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ConvexHull {
+    /// The corners, in shape coordinates (m); every one is a vertex of some face.
     pub vertices: Vec<DVec3>,
+    /// The faces, each a convex polygon with its outward plane.
     pub faces: Vec<HullFace>,
     /// Each undirected edge once, as (lower index, higher index).
     pub edges: Vec<[u32; 2]>,
@@ -75,24 +80,37 @@ pub struct ConvexHull {
 /// a cloud this large is almost certainly a mesh's vertex buffer passed by mistake.
 pub const MAX_HULL_POINTS: usize = 100_000;
 
+/// Why a hull could not be built from a point cloud, or why a hand-built one is invalid.
 #[derive(Debug, Error, PartialEq)]
 pub enum HullError {
+    /// Fewer than the 4 points of a tetrahedron; holds the count given.
     #[error("needs at least 4 points, got {0}")]
     TooFewPoints(usize),
+    /// More than `MAX_HULL_POINTS`; holds the count given.
     #[error("{0} points, more than the {MAX_HULL_POINTS} a hull may have")]
     TooManyPoints(usize),
+    /// The point (or vertex) at this index is NaN or infinite.
     #[error("point {0} is not finite")]
     NotFinite(usize),
+    /// The points enclose no volume that f64 can resolve (they coincide, are collinear,
+    /// coplanar or too thin), or a hand-built hull's volume is not positive; says which.
     #[error("points are degenerate: {0}")]
     Degenerate(&'static str),
+    /// The face at this index has fewer than 3 vertices or indexes a missing one.
     #[error("face {0} has fewer than 3 vertices or refers to a missing vertex")]
     InvalidFace(usize),
+    /// The edge at this index indexes a missing vertex or joins a vertex to itself.
     #[error("edge {0} refers to a missing vertex or joins a vertex to itself")]
     InvalidEdge(usize),
+    /// A half-extent of the vertices' bounding box (m) lies outside
+    /// [`MIN_EXTENT`, `MAX_EXTENT`]; holds that half-extent.
     #[error("extent {0} m lies outside [{MIN_EXTENT}, {MAX_EXTENT}] m")]
     ExtentOutOfRange(f64),
+    /// The face at this index has a normal that is not unit length, or a vertex off its
+    /// plane.
     #[error("face {0}: normal not unit length, or its plane misses a vertex of the face")]
     BadPlane(usize),
+    /// Some vertex lies above the plane of the face at this index.
     #[error("a vertex lies outside the plane of face {0}: the hull is not convex")]
     NotConvex(usize),
 }
@@ -202,6 +220,8 @@ impl ConvexHull {
         Ok(())
     }
 
+    /// The vertex farthest along `direction` (shape coordinates); the origin for a hull
+    /// without vertices. Linear in the number of vertices.
     pub fn support(&self, direction: DVec3) -> DVec3 {
         self.vertices
             .iter()
@@ -215,6 +235,8 @@ impl ConvexHull {
         mass::polyhedron(&self.vertices, self.face_loops(), 1.0).mass
     }
 
+    /// Mass, centre of mass and inertia of the hull filled with uniform `density` (kg/m³),
+    /// exact for the polyhedron.
     pub fn mass_properties(&self, density: f64) -> MassProperties {
         mass::polyhedron(&self.vertices, self.face_loops(), density)
     }
@@ -274,7 +296,8 @@ fn hull_polygons(
 }
 
 /// Point-face pairs up to which every input point is checked against every face of the
-/// result (about 10 ms); beyond it the local convexity certificate alone vouches for the hull.
+/// result, which bounds the time the check may take; beyond it the local convexity
+/// certificate alone vouches for the hull (BENCHMARKS.md, "Hull containment check").
 const CONTAINMENT_CHECK_BUDGET: usize = 10_000_000;
 
 /// Whether no point lies above any polygon's plane by more than a few `on_plane`: the
@@ -325,8 +348,6 @@ fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
     )
 }
 
-/// The cloud moved to its bounding-box centre and divided by its largest half-extent, so that
-/// it spans [-1, 1] along at least one axis, with the tolerances that fit it.
 /// At least a tetrahedron's 4, at most `MAX_HULL_POINTS`.
 fn check_point_count(count: usize) -> Result<(), HullError> {
     if count < 4 {
@@ -338,6 +359,8 @@ fn check_point_count(count: usize) -> Result<(), HullError> {
     Ok(())
 }
 
+/// The cloud moved to its bounding-box centre and divided by its largest half-extent, so that
+/// it spans [-1, 1] along at least one axis, with the tolerances that fit it.
 fn normalized(points: &[DVec3]) -> Result<(Vec<DVec3>, Tolerance), HullError> {
     let (min, max) = bounds(points);
     // Halving before subtracting keeps clouds near ±f64::MAX from overflowing.

@@ -12,6 +12,7 @@ use crate::physics::geometry::shape::Shape;
 /// Mass properties in the shape's local frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MassProperties {
+    /// Mass, kg.
     pub mass: f64,
     /// Centre of mass in shape coordinates.
     pub center: DVec3,

@@ -13,55 +13,89 @@ use thiserror::Error;
 use crate::physics::geometry::compound::Compound;
 use crate::physics::geometry::hull::ConvexHull;
 
-/// Smallest and largest extent (m) a shape may have: beyond these, f64 contact tolerances
-/// (1e-9 m) and a single-precision renderer stop being meaningful.
+/// Smallest extent (m: a radius, half-extent or half-height) a shape may have. Outside
+/// [`MIN_EXTENT`, `MAX_EXTENT`], f64 contact tolerances (1e-9 m) and a single-precision
+/// renderer stop being meaningful.
 pub const MIN_EXTENT: f64 = 1e-4;
+/// Largest extent (m) a shape may have; see `MIN_EXTENT`.
 pub const MAX_EXTENT: f64 = 1e4;
 
+/// A collision shape in its own local frame, dimensions in metres. The primitives are
+/// centred on the origin; hulls and compounds lie wherever their points and parts put them.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Shape {
+    /// A ball centred on the origin.
     Sphere {
+        /// Radius, m.
         radius: f64,
     },
+    /// A box centred on the origin, its faces square to the local axes.
     Cuboid {
+        /// Half the edge lengths along local x, y and z, m.
         half_extents: DVec3,
     },
     /// A segment from (0, -half_height, 0) to (0, half_height, 0), swept by a sphere of `radius`.
     Capsule {
+        /// Half the length of the core segment, m: the caps reach `radius` beyond it.
         half_height: f64,
+        /// Radius of the swept sphere, m.
         radius: f64,
     },
     /// A solid cylinder around the local y axis.
     Cylinder {
+        /// Half the height, m: the flat caps lie at y = ±half_height.
         half_height: f64,
+        /// Radius of the circular cross-section, m.
         radius: f64,
     },
+    /// A convex polyhedron in shape coordinates, shared so that cloning a shape is cheap.
     ConvexHull(Arc<ConvexHull>),
     /// A concave body made of convex parts.
     Compound(Arc<Compound>),
 }
 
+/// Why `Shape::validate` rejected a shape.
 #[derive(Debug, Error, PartialEq)]
 pub enum ShapeError {
+    /// A dimension is NaN or infinite.
     #[error("{field} must be finite, got {value}")]
-    NotFinite { field: &'static str, value: f64 },
+    NotFinite {
+        /// The dimension, as named in the shape (`radius`, `half_extents.x`, …).
+        field: &'static str,
+        /// The value it had.
+        value: f64,
+    },
+    /// A dimension lies outside [`MIN_EXTENT`, `MAX_EXTENT`].
     #[error("{field} must lie in [{MIN_EXTENT}, {MAX_EXTENT}] m, got {value}")]
-    OutOfRange { field: &'static str, value: f64 },
+    OutOfRange {
+        /// The dimension, as named in the shape (`radius`, `half_extents.x`, …).
+        field: &'static str,
+        /// The value it had, m.
+        value: f64,
+    },
+    /// A convex hull could not be built from its points, or a hand-built one is invalid.
     #[error("convex hull: {0}")]
     Hull(#[from] crate::physics::geometry::hull::HullError),
+    /// A compound has no parts, or a part that is not convex, not finitely posed or not
+    /// valid; the message says which.
     #[error("compound: {0}")]
     Compound(String),
 }
 
 impl Shape {
+    /// A sphere of `radius` (m). This and the three constructors below check nothing: see
+    /// `validate`.
     pub fn sphere(radius: f64) -> Self {
         Shape::Sphere { radius }
     }
 
+    /// A box reaching `half_extents` (m) either side of the origin along each local axis.
     pub fn cuboid(half_extents: DVec3) -> Self {
         Shape::Cuboid { half_extents }
     }
 
+    /// A capsule along local y: the segment of `half_height` (m) either side of the origin,
+    /// swept by a sphere of `radius` (m).
     pub fn capsule(half_height: f64, radius: f64) -> Self {
         Shape::Capsule {
             half_height,
@@ -69,6 +103,8 @@ impl Shape {
         }
     }
 
+    /// A solid cylinder along local y, reaching `half_height` (m) either side of the origin,
+    /// of `radius` (m).
     pub fn cylinder(half_height: f64, radius: f64) -> Self {
         Shape::Cylinder {
             half_height,
@@ -83,6 +119,8 @@ impl Shape {
         )?)))
     }
 
+    /// The variant's name for messages: "sphere", "cuboid", "capsule", "cylinder", "hull"
+    /// or "compound".
     pub fn kind_name(&self) -> &'static str {
         match self {
             Shape::Sphere { .. } => "sphere",
@@ -94,6 +132,7 @@ impl Shape {
         }
     }
 
+    /// Every shape but a compound is convex.
     pub fn is_convex(&self) -> bool {
         !matches!(self, Shape::Compound(_))
     }
@@ -228,16 +267,20 @@ impl Shape {
 /// A rigid transform: rotation then translation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Pose {
+    /// Applied after the rotation: where the posed frame's origin lands (m).
     pub translation: DVec3,
+    /// Applied first, about the posed frame's origin; a unit quaternion.
     pub rotation: DQuat,
 }
 
 impl Pose {
+    /// The pose that leaves every point where it is.
     pub const IDENTITY: Pose = Pose {
         translation: DVec3::ZERO,
         rotation: DQuat::IDENTITY,
     };
 
+    /// The pose that rotates by `rotation`, then translates by `translation` (m).
     pub fn new(translation: DVec3, rotation: DQuat) -> Self {
         Pose {
             translation,
@@ -245,6 +288,7 @@ impl Pose {
         }
     }
 
+    /// `p` in the posed frame, expressed in the outer frame: rotated, then translated.
     pub fn transform_point(&self, p: DVec3) -> DVec3 {
         self.rotation * p + self.translation
     }

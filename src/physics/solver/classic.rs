@@ -21,8 +21,10 @@
 //! start of the step are rewound to their contact configuration (momenta with the poses),
 //! impulses are applied, then the environment forces act and every body takes the whole
 //! step. It depends on the order of the pairs, as the report explains. Its free flight is
-//! semi-implicit Euler with nothing to offset the error: C2 apexes are 8 %, 18 % and 30 %
-//! low with one slice at dt = 1/60 and within 2 % with 24 slices (`tests/classic.rs`).
+//! semi-implicit Euler with nothing to offset the error: with the report's one slice at
+//! dt = 1/60 every C2 apex comes out low, each bounce lower than the last, and C2 is missed;
+//! the error shrinks with the slice, and 24 slices meet C2 (`tests/classic.rs`;
+//! BENCHMARKS.md, "Simple loop apexes").
 //!
 //! Several contacts of one event are solved together by repeating the impulses
 //! (`iterations`), each clamped so that bodies are never pulled together; with one contact
@@ -41,6 +43,7 @@ use crate::physics::geometry::gjk::gjk_distance;
 use crate::physics::solver::impulse::{Arms, clamp_to_friction_disc, tangent_basis};
 use crate::physics::solver::toi::{bisection_rewind, conservative_advancement};
 
+/// How a classic step orders impacts in time.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum MainLoop {
     /// Algorithm 4: correct, respond, then integrate everyone by dt.
@@ -50,9 +53,11 @@ pub enum MainLoop {
     Ordered,
 }
 
+/// Settings of the `classic` pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ClassicSettings {
+    /// Which of the report's main loops runs.
     pub main_loop: MainLoop,
     /// Contact tolerance θ, m: bodies closer than this touch; the rewind stops within it.
     pub theta: f64,
@@ -82,7 +87,9 @@ impl Default for ClassicSettings {
 /// Counters of one classic step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ClassicReport {
+    /// Events over all slices (`Simple`: one per slice).
     pub events: u32,
+    /// Bisection rewinds run, over all slices.
     pub rewinds: u32,
     /// True when `max_events` cut the ordering short.
     pub events_exhausted: bool,
@@ -91,9 +98,13 @@ pub struct ClassicReport {
 /// Everything a classic step needs besides the bodies and candidate pairs.
 #[derive(Clone, Copy)]
 pub struct ClassicContext<'a> {
+    /// The world's environmental forces.
     pub forces: &'a [EnvironmentForce],
+    /// How poses are advanced.
     pub integrator: Integrator,
+    /// The pipeline's settings.
     pub settings: &'a ClassicSettings,
+    /// The step, s.
     pub dt: f64,
 }
 

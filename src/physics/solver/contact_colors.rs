@@ -11,9 +11,9 @@
 //! do the results.
 //!
 //! Colour order is not contact order, and one pass of sequential impulses converges better
-//! in contact order on stacks (bodies are added bottom up, so pairs run bottom up): the
-//! 20-layer pyramid (about 1600 contact points), awake, shook at 8.4 mm/s in colour order
-//! against 3.2 mm/s. So only steps with at least `MIN_COLORED_CONTACTS` contacts are
+//! in contact order on stacks (bodies are added bottom up, so pairs run bottom up): an awake
+//! pyramid shakes markedly more in colour order (BENCHMARKS.md, "Colour order on stacks").
+//! So only steps with at least `MIN_COLORED_CONTACTS` contacts are
 //! coloured, where the threads pay most; smaller ones are solved serially with the result
 //! of contact order.
 //!

@@ -12,8 +12,8 @@
 //! packs as it sees fit. The solver's passes are generic over `Lanes`, the arithmetic they
 //! compute with: `Portable` (that plain code, on any processor) or, on x86_64 processors
 //! with AVX2, `Avx2`, one packed instruction per operation. Left to itself the compiler split
-//! much of the pass into two-lane halves; with `Avx2` the pyramid at 4 substeps ran 10 % fewer
-//! instructions in all (413 to 372 M).
+//! much of the pass into two-lane halves, so `Avx2` runs the same steps in fewer
+//! instructions (BENCHMARKS.md, "Solver lanes with AVX2").
 
 use std::ops::{Add, AddAssign, Mul, Neg, Sub};
 
@@ -80,7 +80,8 @@ impl F64x4 {
     ///
     /// Written as two products of permuted lanes rather than component by component: the
     /// compiler then packs each product into one instruction, where it split the
-    /// component-wise form into halves, and a pyramid step ran 2 % fewer instructions.
+    /// component-wise form into halves, which made a step slightly cheaper (BENCHMARKS.md,
+    /// "Lane cross product").
     #[inline(always)]
     pub fn cross(self, other: F64x4) -> F64x4 {
         let ([x, y, z, w], [ox, oy, oz, ow]) = (self.0, other.0);

@@ -8,8 +8,8 @@
 //!
 //! The slots are padded with copies of slot 0 to a power of two, so that a pass can keep
 //! every slot it is handed within them with one mask (`SharedBodies::get`) instead of a
-//! bounds check and its panic path: about six per contact point in every pass, 6 % of the
-//! pyramid's instructions.
+//! bounds check and its panic path, about six per contact point in every pass
+//! (BENCHMARKS.md, "Solver slots").
 
 use std::marker::PhantomData;
 
@@ -30,7 +30,7 @@ pub struct SolverBody {
     /// The linear and angular impulse the body's contacts give it at the next warm start.
     pub warm_start: [F64x4; 2],
     /// The momenta before this substep's warm start: what the contacts have added since is
-    /// the next substep's warm start (`end_substep`).
+    /// the next substep's warm start (`store_warm_start`).
     pub before_contacts: [F64x4; 2],
 }
 
@@ -102,18 +102,19 @@ impl SolverBodies {
         self.slot_of[index]
     }
 
-    /// Starts a substep: `kick` changes the momenta of each awake body (the forces; it gets
-    /// the body's place in `awake`), then the slot reads them and applies the warm start,
-    /// remembering the momenta before it. One loop over the bodies, not three.
+    /// Starts a substep (**integrate velocities**, **warm start**): `integrate` changes the
+    /// momenta of each awake body (the forces; it gets the body's place in `awake`), then the
+    /// slot reads them and applies the warm start, remembering the momenta before it. One
+    /// loop over the bodies, not three.
     #[inline(always)]
-    pub fn kick_and_warm_start(
+    pub fn integrate_velocities_and_warm_start(
         &mut self,
         bodies: &mut [RigidBody],
-        mut kick: impl FnMut(usize, &mut RigidBody),
+        mut integrate: impl FnMut(usize, &mut RigidBody),
     ) {
         for (k, (slot, &index)) in self.slots[1..].iter_mut().zip(&self.awake).enumerate() {
             let body = &mut bodies[index as usize];
-            kick(k, body);
+            integrate(k, body);
             slot.before_contacts = [
                 F64x4::from_vec3(body.linear_momentum),
                 F64x4::from_vec3(body.angular_momentum),
@@ -124,26 +125,30 @@ impl SolverBodies {
         }
     }
 
-    /// Writes the momenta back to each awake body, lets `drift` move it, and reads its new
-    /// pose: one loop over the bodies.
+    /// **Integrate positions**: writes the momenta back to each awake body, lets `integrate`
+    /// move it, and reads its new pose: one loop over the bodies.
     #[inline(always)]
-    pub fn drift(&mut self, bodies: &mut [RigidBody], mut drift: impl FnMut(&mut RigidBody)) {
+    pub fn integrate_positions(
+        &mut self,
+        bodies: &mut [RigidBody],
+        mut integrate: impl FnMut(&mut RigidBody),
+    ) {
         for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
             let body = &mut bodies[index as usize];
             slot.write_momenta(body);
-            drift(body);
+            integrate(body);
             slot.position = F64x4::from_vec3(body.position);
             slot.orientation = columns(&body.orientation);
         }
     }
 
-    /// Ends a substep: writes the momenta back to the bodies and, when another substep
+    /// Ends a substep (**store impulses**): writes the momenta back to the bodies and, when another substep
     /// follows, takes what the contacts gave each body as its warm start. Every contact's
     /// final impulse is its warm start plus what the passes added, and the momenta changed
-    /// by nothing else since `kick_and_warm_start`: so the change in momenta is the sum of
+    /// by nothing else since `integrate_velocities_and_warm_start`: so the change in momenta is the sum of
     /// the final impulses, found per body rather than per contact (which cost two more body
     /// updates per contact point in every relax pass).
-    pub fn end_substep(&mut self, bodies: &mut [RigidBody], warm_start_next: bool) {
+    pub fn store_warm_start(&mut self, bodies: &mut [RigidBody], warm_start_next: bool) {
         for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
             if warm_start_next {
                 let [linear, angular] = slot.before_contacts;
@@ -158,7 +163,7 @@ impl SolverBodies {
     }
 
     /// Writes the momenta the contacts changed back to the bodies.
-    pub fn scatter(&self, bodies: &mut [RigidBody]) {
+    pub fn write_back(&self, bodies: &mut [RigidBody]) {
         for (slot, &index) in self.slots[1..].iter().zip(&self.awake) {
             let body = &mut bodies[index as usize];
             slot.write_momenta(body);
@@ -202,7 +207,13 @@ unsafe impl Sync for SharedBodies<'_> {}
 
 impl<'a> SharedBodies<'a> {
     /// `slots` as `SolverBodies` pads them: a power of two of them.
-    pub fn new(slots: &'a mut [SolverBody]) -> Self {
+    ///
+    /// # Safety
+    ///
+    /// While the result (or a copy) is used from several threads at once, no two of them may
+    /// reach the same moving slot: each thread's contacts address slots no other thread's
+    /// contacts address, as the contacts of one colour do. `FIXED_SLOT` is only read.
+    pub unsafe fn new(slots: &'a mut [SolverBody]) -> Self {
         assert!(slots.len().is_power_of_two(), "{} slots", slots.len());
         SharedBodies {
             slots: slots.as_mut_ptr(),

@@ -20,12 +20,14 @@ use crate::physics::geometry::gjk::{PosedShape, gjk_distance};
 /// Sub-step halvings before the rewind gives up: 2⁻⁶⁰ of a step is far below round-off.
 pub const REWIND_MAX_ITERATIONS: u32 = 60;
 
+/// Where `bisection_rewind` left a pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rewind {
     /// Time within the step (s from its start) at which the bodies were left.
     pub time_of_impact: f64,
     /// Their distance then: in (0, θ] when `converged`.
     pub distance: f64,
+    /// Distance tests made, at most `REWIND_MAX_ITERATIONS`.
     pub iterations: u32,
     /// False when the distance never fell in (0, θ]: the bodies are then left at the latest
     /// separated time found, or at the start of the step if they already overlapped there.
@@ -119,9 +121,13 @@ fn settle_at_separated(
 /// The pose of a body moving with constant linear and angular velocity.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BallisticMotion {
+    /// Centre of mass at t = 0, world, m.
     pub position: DVec3,
+    /// Orientation at t = 0 (columns: the body's axes in world coordinates).
     pub orientation: DMat3,
+    /// Velocity of the centre of mass, world, m/s.
     pub velocity: DVec3,
+    /// Angular velocity, world, rad/s.
     pub angular_velocity: DVec3,
     /// Centre of mass in shape coordinates (see `RigidBody::local_center`).
     pub local_center: DVec3,
@@ -148,6 +154,7 @@ impl BallisticMotion {
     }
 }
 
+/// When and where `conservative_advancement` found two bodies within the tolerance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TimeOfImpact {
     /// s from the start of the motion.
@@ -156,11 +163,15 @@ pub struct TimeOfImpact {
     pub distance: f64,
     /// Unit, from A to B.
     pub normal: DVec3,
+    /// The closest point on A at `time`, world.
     pub point_a: DVec3,
+    /// The closest point on B at `time`, world.
     pub point_b: DVec3,
+    /// Distance tests made, at most `ADVANCEMENT_MAX_ITERATIONS`.
     pub iterations: u32,
 }
 
+/// Advances before `conservative_advancement` gives up and reports no impact.
 pub const ADVANCEMENT_MAX_ITERATIONS: u32 = 64;
 
 /// The first time in [0, max_time] at which two bodies moving ballistically come within

@@ -10,6 +10,8 @@ use crate::physics::geometry::aabb::Aabb;
 /// Leaves hold up to this many boxes: below it, testing them all beats descending.
 const LEAF_SIZE: usize = 4;
 
+/// A bounding-volume hierarchy over boxes tagged with body indices, built whole and never
+/// updated (see the module comment); the default tree is empty.
 #[derive(Clone, Debug, Default)]
 pub struct AabbTree {
     nodes: Vec<Node>,
@@ -27,6 +29,7 @@ struct Node {
 }
 
 impl AabbTree {
+    /// The tree of `items`, each a box with its body index.
     pub fn build(items: impl IntoIterator<Item = (Aabb, u32)>) -> AabbTree {
         let mut tree = AabbTree::default();
         tree.rebuild(items);
@@ -50,10 +53,12 @@ impl AabbTree {
         }
     }
 
+    /// How many boxes the tree holds.
     pub fn len(&self) -> usize {
         self.items.len()
     }
 
+    /// Whether the tree holds no box.
     pub fn is_empty(&self) -> bool {
         self.items.is_empty()
     }

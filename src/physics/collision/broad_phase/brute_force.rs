@@ -2,6 +2,8 @@
 
 use crate::physics::collision::broad_phase::{BodyPair, BroadPhase, Proxy, wants_pair};
 
+/// Tests every pair of proxies: O(n²), and the reference the other broad phases are
+/// checked against.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct BruteForce;
 

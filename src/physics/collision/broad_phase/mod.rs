@@ -32,6 +32,7 @@ use crate::physics::geometry::aabb::Aabb;
 /// What the broad phase knows about one body; proxies are indexed like the world's bodies.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Proxy {
+    /// The body's world box, grown by the margin the proxy was made with.
     pub aabb: Aabb,
     /// A dynamic, awake body. Pairs of two inactive proxies are skipped.
     pub active: bool,
@@ -50,7 +51,9 @@ impl Proxy {
 /// Two bodies, lower id first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct BodyPair {
+    /// The body with the lower id.
     pub a: BodyId,
+    /// The body with the higher id.
     pub b: BodyId,
 }
 
@@ -77,6 +80,7 @@ pub fn wants_pair(p: &Proxy, q: &Proxy) -> bool {
     (p.active || q.active) && p.aabb.overlaps(&q.aabb)
 }
 
+/// A broad-phase algorithm: from one step's proxies, the pairs whose boxes overlap.
 pub trait BroadPhase {
     /// Takes this step's proxies (index = body index) and replaces the contents of `pairs`
     /// with the overlapping pairs, sorted and without duplicates. The caller keeps `pairs`
@@ -95,9 +99,11 @@ pub trait BroadPhase {
 /// The implementations, selectable in settings.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub enum BroadPhaseKind {
+    /// Every pair tested: O(n²), the reference the others must agree with.
     BruteForce,
     /// Cubic cells of `cell_size` metres; best near the size of a typical body.
     UniformGrid {
+        /// Edge length of a cell, m; a value that is not positive and finite means 1 m.
         cell_size: f64,
     },
     /// The default: scales and updates incrementally.
@@ -106,6 +112,7 @@ pub enum BroadPhaseKind {
 }
 
 impl BroadPhaseKind {
+    /// A new instance of this implementation, holding no state yet.
     pub fn create(self) -> Box<dyn BroadPhase + Send> {
         match self {
             BroadPhaseKind::BruteForce => Box::new(BruteForce),
@@ -133,6 +140,8 @@ pub struct SplitBroadPhase {
 }
 
 impl SplitBroadPhase {
+    /// A split broad phase that runs `kind` over the awake bodies; its tree of idle bodies
+    /// is built on the first `fill_pairs`.
     pub fn new(kind: BroadPhaseKind) -> Self {
         SplitBroadPhase {
             kind,
@@ -145,6 +154,7 @@ impl SplitBroadPhase {
         }
     }
 
+    /// The implementation run over the awake bodies.
     pub fn kind(&self) -> BroadPhaseKind {
         self.kind
     }

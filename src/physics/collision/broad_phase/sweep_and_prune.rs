@@ -8,6 +8,8 @@
 
 use crate::physics::collision::broad_phase::{BodyPair, BroadPhase, Proxy, sort_pairs};
 
+/// Sweep and prune along the axis of widest spread, with the sort order kept between calls
+/// (see the module comment); the default starts with no order.
 #[derive(Clone, Debug, Default)]
 pub struct SweepAndPrune {
     /// Body indices sorted by `aabb.min[axis]` as of the last call.
@@ -132,8 +134,8 @@ impl BroadPhase for SweepAndPrune {
 
 /// Replaces the contents of `sorted` with `pairs` in `sort_pairs` order: a counting sort on
 /// the first body, then each first body's few pairs sorted on the second. The pairs are
-/// distinct, so this is the one sorted order; a comparison sort of a rain's thousands of
-/// pairs took 2 % of its instructions.
+/// distinct, so this is the one sorted order; it replaces a comparison sort of all the
+/// pairs, which showed in a rain's profile (BENCHMARKS.md, "Sorting the swept pairs").
 fn sorted_by_first_body(
     pairs: &[BodyPair],
     body_count: usize,

@@ -14,6 +14,8 @@ const MAX_CELLS_PER_PROXY: i64 = 64;
 
 type Cell = (i32, i32, i32);
 
+/// Spatial hashing into cubic cells, rebuilt at every call; a box covering many cells is
+/// tested against every other box instead (see the module comment).
 #[derive(Clone, Debug)]
 pub struct UniformGrid {
     cell_size: f64,

@@ -1,0 +1,236 @@
+//! Preparation, once per step: solver slots for the awake bodies, the contacts' colours, and
+//! each contact point as a `PointConstraint` (anchors, tangents, effective masses, the
+//! fastest approach it may bounce); then the first warm start from the impulses the contacts
+//! ended the last step with.
+
+use glam::DVec3;
+
+use super::constraint::{PointConstraint, SideGeometry, inv_mass, load3, moves};
+use super::{ContactInput, SoftScratch, StepContext};
+use crate::physics::dynamics::body::RigidBody;
+use crate::physics::dynamics::forces::EnvironmentForce;
+use crate::physics::solver::impulse::tangent_basis;
+use crate::physics::solver::lanes::{F64x4, LaneVector, Lanes};
+use crate::physics::solver::solver_bodies::{FIXED_SLOT, SharedBodies, SolverBodies};
+
+/// Gives each awake body a slot, colours the contacts (see `contact_colors`) and prepares
+/// every contact point as a constraint, in colour order.
+#[inline(always)]
+pub(super) fn prepare_contacts<L: Lanes>(
+    l: L,
+    bodies: &[RigidBody],
+    awake: &[u32],
+    contacts: &[ContactInput],
+    ctx: &StepContext,
+    scratch: &mut SoftScratch,
+) {
+    let SoftScratch {
+        constraints,
+        colors,
+        motions,
+        bodies: slots,
+        ..
+    } = scratch;
+    slots.assign(bodies, awake);
+    let contact_slots = contacts
+        .iter()
+        .map(|c| [slots.slot_of(c.a), slots.slot_of(c.b)]);
+    colors.assign(contact_slots, slots.count(), FIXED_SLOT);
+    SlotMotion::gather(motions, bodies, awake, ctx.forces);
+    // Written in place: collecting would build each (large) constraint aside and copy it.
+    constraints.resize(colors.order.len(), PointConstraint::default());
+    // A manifold's points share their normal, and so their tangents: taken in contact order,
+    // where they are neighbours.
+    let mut basis = (DVec3::NAN, [DVec3::NAN; 2]);
+    for (contact, &position) in contacts.iter().zip(&colors.position_of) {
+        let constraint = &mut constraints[position as usize];
+        if contact.normal != basis.0 {
+            basis = (contact.normal, tangent_basis(contact.normal));
+        }
+        *constraint = prepare(l, bodies, slots, contact, basis.1, motions, ctx.dt);
+    }
+    mark_pairs(constraints);
+}
+
+/// The first substep's warm start: the impulses the contacts ended the last step with, added
+/// up per body.
+#[inline(always)]
+pub(super) fn warm_start_from_last_step<L: Lanes>(l: L, scratch: &mut SoftScratch) {
+    // SAFETY: used on this thread only.
+    let shared = unsafe { SharedBodies::new(&mut scratch.bodies.slots) };
+    for constraint in scratch.constraints.iter() {
+        constraint.add_to_warm_start(l, &shared);
+    }
+}
+
+/// What the preparation reads of a moving body, computed once per body rather than at each
+/// of its contact points.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct SlotMotion {
+    /// The environment's acceleration at step start.
+    acceleration: DVec3,
+    velocity: DVec3,
+    angular_velocity: DVec3,
+}
+
+impl SlotMotion {
+    /// Into `motions`, slot by slot: the fixed slot, then the `awake` bodies in slot order.
+    pub(super) fn gather(
+        motions: &mut Vec<SlotMotion>,
+        bodies: &[RigidBody],
+        awake: &[u32],
+        forces: &[EnvironmentForce],
+    ) {
+        motions.clear();
+        // The fixed slot: nothing that does not move accelerates (its velocities are not read).
+        motions.push(SlotMotion::default());
+        motions.extend((awake.iter()).map(|&i| SlotMotion::of(&bodies[i as usize], forces)));
+    }
+
+    fn of(body: &RigidBody, forces: &[EnvironmentForce]) -> Self {
+        SlotMotion {
+            acceleration: environment_acceleration(body, forces),
+            velocity: body.velocity(),
+            angular_velocity: body.angular_velocity(),
+        }
+    }
+}
+
+fn environment_acceleration(body: &RigidBody, forces: &[EnvironmentForce]) -> DVec3 {
+    if !body.is_awake() {
+        return DVec3::ZERO;
+    }
+    forces.iter().map(|f| f.force_on(body)).sum::<DVec3>() * body.inv_mass
+}
+
+/// Velocity at step start of the material point at `lever` from the body's centre of mass
+/// (the passes take theirs from the momenta: `PointConstraint::speeds`).
+#[inline(always)]
+fn velocity_at_start(body: &RigidBody, slot: u32, motions: &[SlotMotion], lever: DVec3) -> DVec3 {
+    if moves(slot) {
+        let motion = &motions[slot as usize];
+        motion.velocity + motion.angular_velocity.cross(lever)
+    } else {
+        body.velocity() + body.angular_velocity().cross(lever)
+    }
+}
+
+/// The constraint of one contact point, whose normal has the tangents `[t1, t2]`.
+#[inline(always)]
+pub(super) fn prepare<L: Lanes>(
+    l: L,
+    bodies: &[RigidBody],
+    slots: &SolverBodies,
+    contact: &ContactInput,
+    [t1, t2]: [DVec3; 2],
+    motions: &[SlotMotion],
+    dt: f64,
+) -> PointConstraint {
+    let (a, b) = (&bodies[contact.a], &bodies[contact.b]);
+    let normal = contact.normal;
+    let directions = [normal, t1, t2];
+    let (r_a, r_b) = (contact.point - a.position, contact.point - b.position);
+    let (slot_a, slot_b) = (slots.slot_of(contact.a), slots.slot_of(contact.b));
+    let relative_velocity =
+        velocity_at_start(b, slot_b, motions, r_b) - velocity_at_start(a, slot_a, motions, r_a);
+    let approach_speed = normal.dot(relative_velocity);
+    let acceleration = |slot: u32| motions[slot as usize].acceleration;
+    let approach_acceleration = normal.dot(acceleration(slot_b) - acceleration(slot_a));
+    let across = F64x4::transpose(directions);
+    let side_a = SideGeometry::new(l, a, slot_a, r_a, &across);
+    let side_b = SideGeometry::new(l, b, slot_b, r_b, &across);
+    let separation_offset = contact.separation
+        - normal.dot(r_b - r_a + b.position - a.position)
+        - normal.dot(side_b.anchor_shift - side_a.anchor_shift);
+    let (anchor_a, anchor_b) = (
+        side_a.anchor_at(slot_a, a.position, a.orientation),
+        side_b.anchor_at(slot_b, b.position, b.orientation),
+    );
+    let inv_masses = inv_mass(a, slot_a) + inv_mass(b, slot_b);
+    let [normal_mass, tangent_1, tangent_2] = effective_masses(l, &side_a, &side_b, inv_masses);
+    PointConstraint {
+        pairs_with_next: false,
+        separation: normal.dot(anchor_b - anchor_a) + separation_offset,
+        normal_to_tangent: normal_to_tangent(l, &side_a, &side_b, inv_masses, &across),
+        a: side_a.into_lanes(),
+        b: side_b.into_lanes(),
+        directions: F64x4::from_vec3s(directions),
+        across,
+        slots: [slot_a, slot_b],
+        separation_offset,
+        normal_mass,
+        tangent_mass: [tangent_1, tangent_2],
+        impulse: contact.warm_impulse,
+        max_normal_impulse: 0.0,
+        approach_speed,
+        fastest_approach: fastest_approach(approach_speed, approach_acceleration, contact, dt),
+        approach_acceleration,
+        friction: (a.material.friction * b.material.friction).sqrt(),
+        restitution: a.material.restitution.min(b.material.restitution),
+    }
+}
+
+/// The mass an impulse along each direction meets: the inverse of the report's denominator
+/// 1/mA + 1/mB + (rA × d)·IA⁻¹(rA × d) + (rB × d)·IB⁻¹(rB × d), from the arms and spins the
+/// sides hold (`inv_masses` is 1/mA + 1/mB). A body that does not move in this step counts
+/// as immovable, as the impulses treat it.
+#[inline(always)]
+fn effective_masses<L: Lanes>(
+    l: L,
+    a: &SideGeometry<L::Vector>,
+    b: &SideGeometry<L::Vector>,
+    inv_masses: f64,
+) -> [f64; 3] {
+    let inverse = (l.load(F64x4::splat(inv_masses)) + a.arm_dot_spin() + b.arm_dot_spin()).store();
+    let mass = |k: usize| {
+        let inverse = inverse.lane(k);
+        if inverse > 0.0 { 1.0 / inverse } else { 0.0 }
+    };
+    [mass(0), mass(1), mass(2)]
+}
+
+/// `PointConstraint::normal_to_tangent`: the relative speed along each tangent that a unit
+/// normal impulse adds.
+#[inline(always)]
+fn normal_to_tangent<L: Lanes>(
+    l: L,
+    a: &SideGeometry<L::Vector>,
+    b: &SideGeometry<L::Vector>,
+    inv_masses: f64,
+    across: &[F64x4; 3],
+) -> [f64; 2] {
+    // d_k · n for each direction k, then the arms' share.
+    let n = [across[0].lane(0), across[1].lane(0), across[2].lane(0)];
+    let [x, y, z] = load3(l, across);
+    let along_normal = x * n[0] + y * n[1] + z * n[2];
+    let coupling =
+        (along_normal * inv_masses + a.normal_arm_dot_spin() + b.normal_arm_dot_spin()).store();
+    [coupling.lane(1), coupling.lane(2)]
+}
+
+/// The fastest the pair can be closing when it meets in this step with no other contact
+/// pushing it: falling the whole gap from its speed at step start under the environment's
+/// acceleration |a|, −√(v² + 2|a|s), plus |a|·dt of slack for the discrete arc's offsets.
+#[inline(always)]
+fn fastest_approach(speed: f64, acceleration: f64, contact: &ContactInput, dt: f64) -> f64 {
+    let closing = speed.min(0.0);
+    let gap = contact.separation.max(0.0);
+    let fall = (closing * closing + 2.0 * acceleration.abs() * gap).sqrt();
+    -fall - acceleration.abs() * dt
+}
+
+/// Sets `pairs_with_next` on contacts in pass order.
+pub(super) fn mark_pairs(constraints: &mut [PointConstraint]) {
+    for k in 1..constraints.len() {
+        let independent = independent(&constraints[k - 1], &constraints[k]);
+        constraints[k - 1].pairs_with_next = independent;
+    }
+}
+
+/// Whether two contacts share no moving body, so that either may be solved first.
+#[inline(always)]
+fn independent(x: &PointConstraint, y: &PointConstraint) -> bool {
+    x.slots
+        .iter()
+        .all(|&slot| !moves(slot) || !y.slots.contains(&slot))
+}

@@ -1,0 +1,295 @@
+//! The passes over the contacts: **solve** (with the soft position bias) and **relax**
+//! (without it, at the poses the substep moved to), colour by colour.
+
+use rayon::prelude::*;
+
+use super::SoftSolverSettings;
+use super::constraint::PointConstraint;
+use crate::physics::solver::contact_colors::ContactColors;
+use crate::physics::solver::impulse::clamp_to_friction_disc;
+#[cfg(target_arch = "x86_64")]
+use crate::physics::solver::lanes::Avx2;
+use crate::physics::solver::lanes::{LaneVector, Lanes, Portable};
+use crate::physics::solver::solver_bodies::{SharedBodies, SolverBody};
+
+/// The stiffest contact spring a substep of length h can carry is this many times 1/h:
+/// stiffer springs ring at 4 or 5 substeps and stacks never settle (BENCHMARKS.md, "Contact
+/// spring cap").
+const MAX_HERTZ_PER_SUBSTEP_RATE: f64 = 0.2;
+
+/// Spring coefficients of a soft constraint for one substep.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Softness {
+    bias_rate: f64,
+    mass_scale: f64,
+    impulse_scale: f64,
+}
+
+impl Softness {
+    /// The contacts' spring for substeps of length `h`: `contact_hertz`, capped at what the
+    /// substep carries.
+    pub(super) fn of_contacts(settings: &SoftSolverSettings, h: f64) -> Self {
+        let hertz = settings.contact_hertz.min(MAX_HERTZ_PER_SUBSTEP_RATE / h);
+        Softness::new(hertz, settings.damping_ratio, h)
+    }
+
+    fn new(hertz: f64, damping_ratio: f64, h: f64) -> Self {
+        let omega = 2.0 * std::f64::consts::PI * hertz;
+        let a1 = 2.0 * damping_ratio + h * omega;
+        let a2 = h * omega * a1;
+        let a3 = 1.0 / (1.0 + a2);
+        Softness {
+            bias_rate: omega / a1,
+            mass_scale: a2 * a3,
+            impulse_scale: a3,
+        }
+    }
+}
+
+/// Contacts in a colour that make it worth spreading over the threads.
+const PARALLEL_MIN_CONTACTS: usize = 128;
+
+/// One pass of a substep over the contacts.
+///
+/// Each substep starts by applying the impulses the contacts hold (the warm start). That
+/// needs no pass of its own: once the relax pass has solved every contact, what each body's
+/// momenta gained since the warm start is the sum of its contacts' final impulses, the next
+/// substep's warm start (`SolverBodies::store_warm_start`); `prepare` gathers the first
+/// from the impulses remembered from the last step. A pass over the contacts streams them all
+/// through memory; a pass over the bodies is far smaller.
+#[derive(Clone, Copy)]
+pub(super) enum Pass {
+    /// Solves with the soft position bias.
+    Biased {
+        softness: Softness,
+        max_push_out: f64,
+    },
+    /// Measures the separations at the poses the substep moved to, then solves without
+    /// bias, removing the velocity the bias added.
+    Relax,
+}
+
+/// Runs `pass` on every contact, colour by colour (see `contact_colors`). A colour large
+/// enough is spread over the threads, a manifold per task; the result is the same to the
+/// last bit, as its manifolds share no moving body.
+pub(super) fn for_each_contact(
+    bodies: &mut [SolverBody],
+    constraints: &mut [PointConstraint],
+    colors: &ContactColors,
+    pass: Pass,
+    h: f64,
+) {
+    // SAFETY: the threads share one colour at a time, whose contacts address disjoint moving
+    // slots (`contact_colors`).
+    let shared = unsafe { SharedBodies::new(bodies) };
+    let threads = rayon::current_num_threads();
+    for (range, parallel) in colors.ranges() {
+        let color = &mut constraints[range];
+        if parallel && threads > 1 && color.len() >= PARALLEL_MIN_CONTACTS {
+            color
+                .par_chunk_by_mut(PointConstraint::same_bodies)
+                .for_each(|manifold| run_pass(pass, &shared, manifold, h));
+        } else {
+            run_pass(pass, &shared, color, h);
+        }
+    }
+}
+
+/// `pass` on these contacts in order, with the lanes (see `lanes`) packed four to an
+/// instruction where the processor has AVX2, and as the compiler packs them otherwise. Both
+/// compute the same bits.
+fn run_pass(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(avx) = Avx2::detect() {
+        // SAFETY: the processor has AVX2, as `avx` proves.
+        return unsafe { run_pass_avx2(avx, pass, bodies, contacts, h) };
+    }
+    run_pass_inline(Portable, pass, bodies, contacts, h);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+pub(super) fn run_pass_avx2(
+    avx: Avx2,
+    pass: Pass,
+    bodies: &SharedBodies,
+    contacts: &mut [PointConstraint],
+    h: f64,
+) {
+    run_pass_inline(avx, pass, bodies, contacts, h);
+}
+
+/// The body of `run_pass`, compiled into each of its variants.
+#[inline(always)]
+pub(super) fn run_pass_inline<L: Lanes>(
+    l: L,
+    pass: Pass,
+    bodies: &SharedBodies,
+    contacts: &mut [PointConstraint],
+    h: f64,
+) {
+    // Plain loops: an iterator adaptor's closure may be left out of line, and would then be
+    // compiled without the variant's instructions.
+    let bias = match pass {
+        Pass::Biased {
+            softness,
+            max_push_out,
+        } => Some((softness, max_push_out)),
+        Pass::Relax => None,
+    };
+    let relax = bias.is_none();
+    let mut k = 0;
+    while k < contacts.len() {
+        let paired = contacts[k].pairs_with_next && k + 1 < contacts.len();
+        let group = &mut contacts[k..k + 1 + paired as usize];
+        k += group.len();
+        if relax {
+            for c in group.iter_mut() {
+                c.separation = current_separation(l, bodies, c);
+            }
+        }
+        match group {
+            [first, second] => solve_two(l, bodies, [first, second], h, bias),
+            [only] => solve(l, bodies, only, h, bias),
+            _ => unreachable!("a group is one contact or two"),
+        }
+    }
+}
+
+/// `solve` on two independent contacts, step by step side by side, so that the processor
+/// works on both chains of dependent operations at once.
+#[inline(always)]
+fn solve_two<L: Lanes>(
+    l: L,
+    bodies: &SharedBodies,
+    [x, y]: [&mut PointConstraint; 2],
+    h: f64,
+    bias: Option<(Softness, f64)>,
+) {
+    let (speeds_x, speeds_y) = (x.speeds(l, bodies), y.speeds(l, bodies));
+    let normal_x = solve_normal(x, speeds_x[0], h, bias);
+    let normal_y = solve_normal(y, speeds_y[0], h, bias);
+    let friction_x = solve_friction(x, tangent_speeds(x, speeds_x, normal_x));
+    let friction_y = solve_friction(y, tangent_speeds(y, speeds_y, normal_y));
+    x.apply(l, bodies, [normal_x, friction_x[0], friction_x[1]]);
+    y.apply(l, bodies, [normal_y, friction_y[0], friction_y[1]]);
+}
+
+/// Current separation: the anchors carried along by the bodies' motion in this step.
+#[inline(always)]
+fn current_separation<L: Lanes>(l: L, bodies: &SharedBodies, c: &PointConstraint) -> f64 {
+    let [slot_a, slot_b] = c.slots;
+    let (anchor_a, anchor_b) = (
+        c.a.anchor_in_world(l, bodies, slot_a),
+        c.b.anchor_in_world(l, bodies, slot_b),
+    );
+    (anchor_b - anchor_a).dot3(c.normal()) + c.separation_offset
+}
+
+/// One contact's share of a pass: normal (soft or rigid) then friction, applied together.
+/// `bias` is the softness and push-out cap when solving with position bias, None to relax.
+#[inline(always)]
+fn solve<L: Lanes>(
+    l: L,
+    bodies: &SharedBodies,
+    c: &mut PointConstraint,
+    h: f64,
+    bias: Option<(Softness, f64)>,
+) {
+    let speeds = c.speeds(l, bodies);
+    let normal = solve_normal(c, speeds[0], h, bias);
+    let [t1, t2] = solve_friction(c, tangent_speeds(c, speeds, normal));
+    c.apply(l, bodies, [normal, t1, t2]);
+}
+
+/// The speeds along the tangents once the normal impulse `normal` is added.
+#[inline(always)]
+fn tangent_speeds(c: &PointConstraint, speeds: [f64; 3], normal: f64) -> [f64; 2] {
+    // Skipped when no normal impulse is added: on an absurd contact (a body flung 1e298 m
+    // away) the coupling overflows, and 0 · ∞ would poison the friction of the other body.
+    if normal == 0.0 {
+        [speeds[1], speeds[2]]
+    } else {
+        [
+            speeds[1] + c.normal_to_tangent[0] * normal,
+            speeds[2] + c.normal_to_tangent[1] * normal,
+        ]
+    }
+}
+
+/// The normal impulse this pass adds, at the relative normal speed `normal_speed`.
+#[inline(always)]
+fn solve_normal(
+    c: &mut PointConstraint,
+    normal_speed: f64,
+    h: f64,
+    bias: Option<(Softness, f64)>,
+) -> f64 {
+    let separation = c.separation;
+    let (velocity_bias, mass_scale, impulse_scale) = if separation > 0.0 {
+        // Speculative: allow the gap to close within this substep, no further.
+        (separation / h, 1.0, 0.0)
+    } else if let Some((soft, max_push_out)) = bias {
+        (
+            at_least(soft.bias_rate * separation, -max_push_out),
+            soft.mass_scale,
+            soft.impulse_scale,
+        )
+    } else {
+        (0.0, 1.0, 0.0)
+    };
+    let delta = -c.normal_mass * mass_scale * (normal_speed + velocity_bias)
+        - impulse_scale * c.impulse.normal;
+    let accumulated = at_least(c.impulse.normal + delta, 0.0);
+    let applied = accumulated - c.impulse.normal;
+    if c.max_normal_impulse == 0.0 && applied > 0.0 {
+        // The contact closes now. Restitution must reflect the speed at which the surfaces
+        // meet: the speed at step start misses up to g·dt of fall, and the gap that is
+        // still open would have been crossed while accelerating. The velocity holds this
+        // substep's kick; the bodies are where the substep started before the drift and
+        // where it ended after (the relax pass), which sets the arc speed there.
+        let a = c.approach_acceleration;
+        let arc_speed = normal_speed + if bias.is_some() { -0.5 } else { 0.5 } * a * h;
+        c.approach_speed = impact_speed(arc_speed, a, separation).max(c.fastest_approach);
+    }
+    c.impulse.normal = accumulated;
+    c.max_normal_impulse = at_least(applied, c.max_normal_impulse);
+    applied
+}
+
+/// Speed at which two surfaces `gap` apart, closing at `speed` (< 0) under a constant
+/// relative `acceleration`, actually meet: −√(v² − 2 a s) when accelerating toward contact.
+#[inline(always)]
+fn impact_speed(speed: f64, acceleration: f64, gap: f64) -> f64 {
+    if gap > 0.0 && acceleration < 0.0 {
+        -(speed * speed - 2.0 * acceleration * gap).sqrt()
+    } else {
+        speed
+    }
+}
+
+/// `x.max(floor)` for a floor that is a number (a NaN x gives the floor, as with `max`), in one
+/// comparison: `f64::max` also has to handle a NaN floor, which the solver's hottest path
+/// never has.
+#[inline(always)]
+fn at_least(x: f64, floor: f64) -> f64 {
+    if x > floor { x } else { floor }
+}
+
+/// Coulomb friction: the tangential impulse stays inside the disc of radius μ·λn. Returns
+/// the impulses this pass adds along the tangents.
+#[inline(always)]
+fn solve_friction(c: &mut PointConstraint, speeds: [f64; 2]) -> [f64; 2] {
+    let limit = c.friction * c.impulse.normal;
+    let unclamped = [
+        c.impulse.tangent[0] - c.tangent_mass[0] * speeds[0],
+        c.impulse.tangent[1] - c.tangent_mass[1] * speeds[1],
+    ];
+    let accumulated = clamp_to_friction_disc(unclamped, limit);
+    let applied = [
+        accumulated[0] - c.impulse.tangent[0],
+        accumulated[1] - c.impulse.tangent[1],
+    ];
+    c.impulse.tangent = accumulated;
+    applied
+}

@@ -1,0 +1,190 @@
+use glam::{DQuat, DVec3};
+
+use super::constraint::PointConstraint;
+use super::prepare::{SlotMotion, mark_pairs, prepare};
+#[cfg(target_arch = "x86_64")]
+use super::solve::run_pass_avx2;
+use super::solve::{Pass, Softness, run_pass_inline};
+use super::{ContactInput, SoftSolverSettings, WarmImpulse};
+use crate::physics::dynamics::body::{BodyDesc, RigidBody};
+use crate::physics::geometry::shape::Shape;
+use crate::physics::solver::impulse::tangent_basis;
+#[cfg(target_arch = "x86_64")]
+use crate::physics::solver::lanes::Avx2;
+use crate::physics::solver::lanes::{F64x4, Lanes, Portable};
+use crate::physics::solver::solver_bodies::{SharedBodies, SolverBodies};
+
+/// The contacts' spring at the default settings for substeps of `h`.
+fn softness(h: f64) -> Softness {
+    Softness::of_contacts(&SoftSolverSettings::default(), h)
+}
+
+/// The slots opened to one thread.
+fn one_thread(slots: &mut SolverBodies) -> SharedBodies<'_> {
+    // SAFETY: the tests use them on one thread.
+    unsafe { SharedBodies::new(&mut slots.slots) }
+}
+
+/// Two turning, moving boxes on a fixed one, with contacts at skew points and
+/// remembered impulses, prepared as a step would.
+fn scene() -> (Vec<RigidBody>, SolverBodies, Vec<PointConstraint>) {
+    scene_prepared_with(Portable)
+}
+
+fn scene_prepared_with<L: Lanes>(l: L) -> (Vec<RigidBody>, SolverBodies, Vec<PointConstraint>) {
+    let cuboid = |h: f64| Shape::cuboid(DVec3::new(h, 0.7 * h, 1.3 * h));
+    let descs = [
+        BodyDesc::fixed(cuboid(5.0)).at(DVec3::new(0.0, -3.5, 0.0)),
+        BodyDesc::dynamic(cuboid(0.5))
+            .rotated(DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -0.2, 0.7))
+            .with_velocity(DVec3::new(0.4, -1.1, 0.2))
+            .with_angular_velocity(DVec3::new(1.3, 0.2, -0.9)),
+        BodyDesc::dynamic(cuboid(0.3))
+            .at(DVec3::new(0.2, 0.9, -0.1))
+            .rotated(DQuat::from_euler(glam::EulerRot::XYZ, -0.5, 0.1, 0.2))
+            .with_velocity(DVec3::new(-0.3, 0.5, 0.1))
+            .with_angular_velocity(DVec3::new(-0.2, 2.1, 0.4)),
+    ];
+    let bodies: Vec<RigidBody> = descs
+        .iter()
+        .map(|d| RigidBody::from_desc(d).expect("valid"))
+        .collect();
+    let mut slots = SolverBodies::default();
+    slots.assign(&bodies, &[1, 2]);
+    let contact = |a: usize, b: usize, k: f64| ContactInput {
+        a,
+        b,
+        point: DVec3::new(0.1 * k, 0.3 - 0.2 * k, -0.05 * k),
+        normal: DVec3::new(0.1, 1.0, -0.2 * k).normalize(),
+        separation: 0.01 - 0.004 * k,
+        warm_impulse: WarmImpulse {
+            normal: 0.8 * k,
+            tangent: [0.1 * k, -0.05],
+        },
+    };
+    // The first two share no moving body: a pass solves them side by side.
+    let contacts = [
+        contact(0, 1, 1.0),
+        contact(0, 2, 4.0),
+        contact(0, 1, 2.0),
+        contact(1, 2, 3.0),
+    ];
+    let mut motions = Vec::new();
+    SlotMotion::gather(&mut motions, &bodies, &[1, 2], &[]);
+    let mut constraints = (contacts.iter())
+        .map(|c| {
+            prepare(
+                l,
+                &bodies,
+                &slots,
+                c,
+                tangent_basis(c.normal),
+                &motions,
+                1.0 / 60.0,
+            )
+        })
+        .collect::<Vec<_>>();
+    mark_pairs(&mut constraints);
+    assert!(constraints[0].pairs_with_next && !constraints[2].pairs_with_next);
+    (bodies, slots, constraints)
+}
+
+/// The warm start gathered from the change in momenta is what adding up every contact's
+/// final impulse gives (the sum the relax pass used to build contact by contact).
+#[test]
+fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
+    let (mut bodies, mut slots, mut constraints) = scene();
+    let h = 1.0 / 480.0;
+    let shared = one_thread(&mut slots);
+    for c in &constraints {
+        c.add_to_warm_start(Portable, &shared);
+    }
+    slots.integrate_velocities_and_warm_start(&mut bodies, |_, _| {});
+    let biased = Pass::Biased {
+        softness: softness(h),
+        max_push_out: 3.0,
+    };
+    for pass in [biased, Pass::Relax] {
+        run_pass_inline(Portable, pass, &one_thread(&mut slots), &mut constraints, h);
+    }
+    slots.store_warm_start(&mut bodies, true);
+    let mut summed = slots.clone();
+    for slot in &mut summed.slots {
+        slot.warm_start = [F64x4::ZERO; 2];
+    }
+    let shared = one_thread(&mut summed);
+    for c in &constraints {
+        c.add_to_warm_start(Portable, &shared);
+    }
+    let mut pushed = 0.0;
+    for (gathered, summed) in slots.slots[1..].iter().zip(&summed.slots[1..]) {
+        for k in 0..2 {
+            let (x, y) = (
+                gathered.warm_start[k].to_vec3(),
+                summed.warm_start[k].to_vec3(),
+            );
+            // Round-off of two sums of a few terms of order 10.
+            assert!(
+                x.distance(y) < 1e-12 * (1.0 + y.length()),
+                "{x} against {y}"
+            );
+            pushed += y.length();
+        }
+    }
+    assert!(pushed > 1.0, "the contacts push: {pushed}");
+}
+
+#[test]
+fn packed_and_unpacked_preparation_compute_the_same_bits() {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(avx) = Avx2::detect() {
+        let (_, _, portable) = scene();
+        let (_, _, packed) = scene_prepared_with(avx);
+        for (x, y) in portable.iter().zip(&packed) {
+            // Debug prints each number exactly (shortest round trip), signed zeros too.
+            assert_eq!(format!("{x:?}"), format!("{y:?}"));
+        }
+    }
+}
+
+#[test]
+fn packed_and_unpacked_passes_compute_the_same_bits() {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(avx) = Avx2::detect() {
+        let softness = softness(1.0 / 480.0);
+        let passes = [
+            Pass::Biased {
+                softness,
+                max_push_out: 3.0,
+            },
+            Pass::Relax,
+        ];
+        let (_, mut slots_inline, mut inline) = scene();
+        let (_, mut slots_packed, mut packed) = scene();
+        for pass in passes {
+            let h = 1.0 / 480.0;
+            run_pass_inline(
+                Portable,
+                pass,
+                &one_thread(&mut slots_inline),
+                &mut inline,
+                h,
+            );
+            // SAFETY: the processor has AVX2, as `avx` proves.
+            unsafe { run_pass_avx2(avx, pass, &one_thread(&mut slots_packed), &mut packed, h) };
+        }
+        for (x, y) in slots_inline.slots.iter().zip(&slots_packed.slots) {
+            assert_eq!(x.linear_momentum, y.linear_momentum);
+            assert_eq!(x.angular_momentum, y.angular_momentum);
+        }
+        for (x, y) in inline.iter().zip(&packed) {
+            assert_eq!((x.impulse, x.separation), (y.impulse, y.separation));
+        }
+        // The passes did something: the momenta moved from where the bodies had them.
+        let (bodies, _, _) = scene();
+        assert_ne!(
+            slots_inline.slots[1].linear_momentum.to_vec3(),
+            bodies[1].linear_momentum
+        );
+    }
+}
