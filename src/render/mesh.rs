@@ -292,11 +292,7 @@ mod tests {
             face(vec![2, 4, 3]),
             face(vec![3, 4, 0]),
         ];
-        let hull = ConvexHull {
-            vertices: vertices.clone(),
-            faces,
-            edges: vec![],
-        };
+        let hull = ConvexHull::new(vertices.clone(), faces, vec![]);
         let mesh = hull_mesh(&hull);
         assert_eq!(mesh.indices.len(), 3 * (2 + 4));
         assert_outward(&mesh);

@@ -37,11 +37,7 @@ pub fn hull_from_faces(vertices: Vec<DVec3>, faces: &[&[u32]]) -> ConvexHull {
         .collect();
     edges.sort();
     edges.dedup();
-    ConvexHull {
-        vertices,
-        faces,
-        edges,
-    }
+    ConvexHull::new(vertices, faces, edges)
 }
 
 /// The box hull with 6 quad faces.

@@ -15,8 +15,6 @@
 //! Contacts are kept while their separation is at most `margin`: the report's tolerance θ
 //! between the rewind and the contact search, or a speculative distance.
 
-use std::borrow::Cow;
-
 use glam::DVec3;
 use smallvec::SmallVec;
 
@@ -149,7 +147,7 @@ struct Polyhedron<'a> {
     edges: &'a [[u32; 2]],
     /// The two faces that meet at each edge; None where the faces do not say (a hand-built
     /// hull whose loops do not close), and such an edge is left to the face axes.
-    edge_faces: Cow<'a, [Option<[usize; 2]>]>,
+    edge_faces: &'a [Option<[usize; 2]>],
     centroid: DVec3,
     /// A box's frame, for the closed forms of `best_face_axis` and `best_edge_axis`.
     box_frame: Option<BoxFrame>,
@@ -262,7 +260,7 @@ impl<'a> Polyhedron<'a> {
         Polyhedron {
             faces: SmallVec::from_buf([face(0), face(1), face(2), face(3), face(4), face(5)]),
             edges: BOX_EDGES.as_slice(),
-            edge_faces: Cow::Borrowed(BOX_EDGE_FACES.as_slice()),
+            edge_faces: BOX_EDGE_FACES.as_slice(),
             centroid: centroid(&vertices),
             box_frame: Some(BoxFrame {
                 center: posed.origin,
@@ -276,7 +274,6 @@ impl<'a> Polyhedron<'a> {
     fn of_hull(posed: &PosedShape<'a>, hull: &'a ConvexHull) -> Polyhedron<'a> {
         let vertices: SmallVec<[DVec3; 8]> =
             hull.vertices.iter().map(|&p| posed.to_world(p)).collect();
-        let loops = hull.faces.iter().map(|f| f.vertices.as_slice());
         Polyhedron {
             faces: hull
                 .faces
@@ -284,7 +281,7 @@ impl<'a> Polyhedron<'a> {
                 .map(|f| face_of(posed, &f.vertices, f.normal, &vertices))
                 .collect(),
             edges: hull.edges.as_slice(),
-            edge_faces: Cow::Owned(faces_at_edges(loops, &hull.edges)),
+            edge_faces: hull.edge_faces(),
             centroid: centroid(&vertices),
             box_frame: None,
             vertices,
@@ -337,35 +334,6 @@ fn centroid(vertices: &[DVec3]) -> DVec3 {
     vertices.iter().sum::<DVec3>() / vertices.len() as f64
 }
 
-/// For each edge, the two faces whose loops (vertex indices) run along it (one each way).
-fn faces_at_edges<'f>(
-    loops: impl Iterator<Item = &'f [u32]>,
-    edges: &[[u32; 2]],
-) -> Vec<Option<[usize; 2]>> {
-    let mut sides: Vec<(u32, u32, usize)> = loops
-        .enumerate()
-        .flat_map(|(f, face)| {
-            let n = face.len();
-            (0..n).map(move |k| {
-                let (i, j) = (face[k], face[(k + 1) % n]);
-                (i.min(j), i.max(j), f)
-            })
-        })
-        .collect();
-    sides.sort_unstable();
-    edges
-        .iter()
-        .map(|&[i, j]| {
-            let key = (i.min(j), i.max(j));
-            let start = sides.partition_point(|s| (s.0, s.1) < key);
-            match sides.get(start..start + 2) {
-                Some([x, y]) if (x.0, x.1) == key && (y.0, y.1) == key => Some([x.2, y.2]),
-                _ => None,
-            }
-        })
-        .collect()
-}
-
 /// The best axis found by the separating-axis test.
 #[derive(Clone, Copy, Debug)]
 enum Axis {
@@ -399,12 +367,15 @@ const AXIS_PREFERENCE: f64 = 1e-3;
 
 /// Adds to `contacts` (empty on entry).
 fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64, contacts: &mut Contacts) {
-    let slop = AXIS_PREFERENCE * a.size().min(b.size());
-    let face_a = best_face_axis(a, b, true);
+    let (size_a, size_b) = (a.size(), b.size());
+    let slop = AXIS_PREFERENCE * size_a.min(size_b);
+    let reach = a.centroid.length() + size_a + b.centroid.length() + size_b;
+    let bound_slack = BOUND_ROUND_OFF * reach;
+    let face_a = best_face_axis(a, b, true, bound_slack);
     if face_a.separation() > margin {
         return;
     }
-    let face_b = best_face_axis(b, a, false);
+    let face_b = best_face_axis(b, a, false, bound_slack);
     if face_b.separation() > margin {
         return;
     }
@@ -415,7 +386,7 @@ fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64, contacts: &m
     };
     // An edge pair no farther apart than this neither separates the shapes nor beats `best`.
     let floor = margin.min(best.separation() + slop);
-    if let Some(edges) = best_edge_axis(a, b, floor) {
+    if let Some(edges) = best_edge_axis(a, b, floor, bound_slack) {
         if edges.separation() > margin {
             return;
         }
@@ -439,22 +410,43 @@ fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64, contacts: &m
     }
 }
 
-/// The face of `owner` along whose normal `other` is farthest out (largest separation).
-fn best_face_axis(owner: &Polyhedron, other: &Polyhedron, of_a: bool) -> Axis {
+/// How far a bound on a separation, computed in f64, may fall below the separation as the
+/// search computes it, over the distances from the origin involved: far above round-off,
+/// far below any gap that matters.
+const BOUND_ROUND_OFF: f64 = 1e-9;
+
+/// The face of `owner` along whose normal `other` is farthest out (largest separation;
+/// of equal ones the last).
+///
+/// Along a face's normal, `other`'s nearest vertex is no farther out than its centroid (an
+/// average of its vertices), so a face whose centroid lies below the best separation so far
+/// (by more than `slack`, round-off) cannot win, and its vertices are not visited. The face
+/// with the centroid farthest out is measured first, so that the bar is high from the start.
+fn best_face_axis(owner: &Polyhedron, other: &Polyhedron, of_a: bool, slack: f64) -> Axis {
     if let (Some(owner_box), Some(other_box)) = (owner.box_frame, other.box_frame) {
         return best_box_face_axis(&owner_box, &other_box, of_a);
     }
-    let (face, separation) = owner
-        .faces
-        .iter()
-        .map(|f| -other.support_value(-f.normal) - f.offset)
-        .enumerate()
+    let bound = |f: &Polygon| f.normal.dot(other.centroid) - f.offset;
+    let separation = |f: &Polygon| -other.support_value(-f.normal) - f.offset;
+    let first = (0..owner.faces.len())
+        .map(|k| (k, bound(&owner.faces[k])))
         .max_by(|x, y| x.1.total_cmp(&y.1))
-        .expect("a polyhedron has faces");
+        .expect("a polyhedron has faces")
+        .0;
+    let mut best = (first, separation(&owner.faces[first]));
+    for (k, face) in owner.faces.iter().enumerate() {
+        if k == first || bound(face) + slack < best.1 {
+            continue;
+        }
+        let value = separation(face);
+        if value > best.1 || (value == best.1 && k > best.0) {
+            best = (k, value);
+        }
+    }
     Axis::Face {
         of_a,
-        face,
-        separation,
+        face: best.0,
+        separation: best.1,
     }
 }
 
@@ -491,28 +483,67 @@ fn best_box_face_axis(owner: &BoxFrame, other: &BoxFrame, of_a: bool) -> Axis {
 /// Minkowski difference). That keeps the test O(edges²) instead of O(edges² · vertices).
 ///
 /// Pairs that are surely no farther apart than `floor` may be left out (the box shortcut
-/// does), so only a result above `floor` is sure to be the best pair.
-fn best_edge_axis(a: &Polyhedron, b: &Polyhedron, floor: f64) -> Option<Axis> {
+/// does, and so does the bound of `arc_reach` on whole edges), so only a result above
+/// `floor` is sure to be the best pair.
+fn best_edge_axis(a: &Polyhedron, b: &Polyhedron, floor: f64, slack: f64) -> Option<Axis> {
     if let (Some(frame_a), Some(frame_b)) = (a.box_frame, b.box_frame) {
         return best_box_edge_axis(a, &frame_a, b, &frame_b, floor);
     }
+    let edges_b: EdgeArcs = (0..b.edges.len())
+        .filter_map(|j| {
+            let [f0, f1] = b.edge_faces[j]?;
+            let arc = [-b.faces[f0].normal, -b.faces[f1].normal];
+            let point = b.vertices[b.edges[j][0] as usize];
+            let reach = arc_reach(arc, point - a.centroid);
+            (reach + slack >= floor).then_some((j, arc))
+        })
+        .collect();
     let mut best: Option<Axis> = None;
     for i in 0..a.edges.len() {
-        let Some([fa0, fa1]) = a.edge_faces[i] else {
+        let Some([f0, f1]) = a.edge_faces[i] else {
             continue;
         };
-        let (na, nb) = (a.faces[fa0].normal, a.faces[fa1].normal);
-        for j in 0..b.edges.len() {
-            let Some([fb0, fb1]) = b.edge_faces[j] else {
-                continue;
-            };
-            let (nc, nd) = (-b.faces[fb0].normal, -b.faces[fb1].normal);
+        let (na, nb) = (a.faces[f0].normal, a.faces[f1].normal);
+        let point = a.vertices[a.edges[i][0] as usize];
+        if arc_reach([na, nb], b.centroid - point) + slack < floor {
+            continue;
+        }
+        for &(j, [nc, nd]) in &edges_b {
             if arcs_cross(na, nb, nc, nd) {
                 keep_better_edge_axis(&mut best, a, i, b, j);
             }
         }
     }
     best
+}
+
+/// The edges of a polyhedron left in the search, with the arcs of their Gauss map
+/// (negated for B): inline up to what a hull of some thirty points keeps.
+type EdgeArcs = SmallVec<[(usize, [DVec3; 2]); 64]>;
+
+/// The most `n · offset` reaches over the unit normals n on the great arc between `arc`'s
+/// ends (shorter than a half circle).
+///
+/// For an edge of A with its arc, and any axis n on it, A reaches out along n exactly to
+/// the edge, while B's nearest vertex lies no farther out than its centroid: so this
+/// reach, with `offset` from the edge to B's centroid, bounds the separation of every pair
+/// that edge can make (for an edge of B, its negated arc and the offset from A's centroid
+/// to it, likewise). An edge whose bound is below the best separation so far is left out.
+fn arc_reach([p, q]: [DVec3; 2], offset: DVec3) -> f64 {
+    let ends = p.dot(offset).max(q.dot(offset));
+    let plane = p.cross(q);
+    let square = plane.length_squared();
+    if square == 0.0 {
+        return offset.length();
+    }
+    // The offset's part in the arc's plane points where n · offset peaks on the circle.
+    let peak = offset - plane * (offset.dot(plane) / square);
+    let within = p.cross(peak).dot(plane) >= 0.0 && peak.cross(q).dot(plane) >= 0.0;
+    if within {
+        peak.length().max(ends)
+    } else {
+        ends
+    }
 }
 
 /// `best_edge_axis` for two boxes. A box has 12 edges but only 3 directions, and for each
@@ -1121,6 +1152,7 @@ pub(crate) mod tests {
     use proptest::prelude::*;
 
     use super::*;
+    use crate::physics::geometry::hull::faces_at_edges;
 
     /// Uniform-ish unit quaternions (rejecting the short ones before normalising).
     pub(crate) fn unit_quat() -> impl Strategy<Value = DQuat> {
@@ -1164,13 +1196,27 @@ pub(crate) mod tests {
             let posed_b = PosedShape::new(&shape_b, offset, DMat3::from_quat(turn_b));
             let a = Polyhedron::of(&posed_a).expect("a box is a polyhedron");
             let b = Polyhedron::of(&posed_b).expect("a box is a polyhedron");
+            // The centroids lie within 6 m of the origin and the boxes within 3.5 m of them.
+            let slack = BOUND_ROUND_OFF * 20.0;
             for (owner, other, of_a) in [(&a, &b, true), (&b, &a, false)] {
-                let closed = best_face_axis(owner, other, of_a);
+                let closed = best_face_axis(owner, other, of_a, slack);
                 let searched = best_face_axis(
                     &Polyhedron { box_frame: None, ..owner.clone() },
                     &Polyhedron { box_frame: None, ..other.clone() },
                     of_a,
+                    slack,
                 );
+                // The search that skips faces by their centroid bound picks what visiting
+                // every face picks, to the bit: the farthest out, of equal ones the last.
+                let every_face = (owner.faces.iter())
+                    .map(|f| -other.support_value(-f.normal) - f.offset)
+                    .enumerate()
+                    .max_by(|x, y| x.1.total_cmp(&y.1))
+                    .expect("a box has faces");
+                let Axis::Face { face: pruned_face, separation: pruned, .. } = searched else {
+                    panic!("face axes are faces");
+                };
+                prop_assert_eq!((pruned_face, pruned), every_face);
                 let (Axis::Face { face, separation, .. }, Axis::Face { face: f, separation: s, .. }) =
                     (closed, searched)
                 else {
@@ -1182,12 +1228,12 @@ pub(crate) mod tests {
                 let s_of_closed = -other.support_value(-owner.faces[face].normal) - owner.faces[face].offset;
                 prop_assert!(face == f || (s_of_closed - s).abs() <= 1e-12 * (1.0 + s.abs()));
             }
-            let shortcut = best_edge_axis(&a, &b, f64::NEG_INFINITY);
-            let searched = best_edge_axis(
-                &Polyhedron { box_frame: None, ..a.clone() },
-                &Polyhedron { box_frame: None, ..b.clone() },
-                f64::NEG_INFINITY,
+            let shortcut = best_edge_axis(&a, &b, f64::NEG_INFINITY, slack);
+            let (general_a, general_b) = (
+                Polyhedron { box_frame: None, ..a.clone() },
+                Polyhedron { box_frame: None, ..b.clone() },
             );
+            let searched = best_edge_axis(&general_a, &general_b, f64::NEG_INFINITY, slack);
             match (shortcut, searched) {
                 (
                     Some(Axis::Edges { edge_a, edge_b, separation, .. }),
@@ -1198,21 +1244,26 @@ pub(crate) mod tests {
                 }
                 (x, y) => prop_assert!(x.is_none() && y.is_none(), "{:?} against {:?}", x, y),
             }
-            // The pairs left out below a floor change nothing above it.
-            let floored = best_edge_axis(&a, &b, floor);
-            match (floored, searched) {
-                (
-                    Some(Axis::Edges { edge_a, edge_b, separation, .. }),
-                    Some(Axis::Edges { edge_a: ea, edge_b: eb, separation: s, .. }),
-                ) if s > floor => {
-                    prop_assert_eq!((edge_a, edge_b), (ea, eb));
-                    prop_assert_eq!(separation, s);
+            // The pairs left out below a floor, by the box shortcut or by the arc bound of
+            // the general search, change nothing above it.
+            for floored in [
+                best_edge_axis(&a, &b, floor, slack),
+                best_edge_axis(&general_a, &general_b, floor, slack),
+            ] {
+                match (floored, searched) {
+                    (
+                        Some(Axis::Edges { edge_a, edge_b, separation, .. }),
+                        Some(Axis::Edges { edge_a: ea, edge_b: eb, separation: s, .. }),
+                    ) if s > floor => {
+                        prop_assert_eq!((edge_a, edge_b), (ea, eb));
+                        prop_assert_eq!(separation, s);
+                    }
+                    (x, y) => prop_assert!(
+                        x.is_none_or(|x| x.separation() <= floor)
+                            && y.is_none_or(|y| y.separation() <= floor),
+                        "{:?} against {:?} above {}", x, y, floor
+                    ),
                 }
-                (x, y) => prop_assert!(
-                    x.is_none_or(|x| x.separation() <= floor)
-                        && y.is_none_or(|y| y.separation() <= floor),
-                    "{:?} against {:?} above {}", x, y, floor
-                ),
             }
         }
     }

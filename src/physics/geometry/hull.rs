@@ -14,6 +14,7 @@
 //!    repeated at tolerances a decade apart.
 
 use std::collections::{HashMap, HashSet};
+use std::sync::OnceLock;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -65,7 +66,11 @@ pub struct HullFace {
 }
 
 /// A closed convex polyhedron. Coplanar triangles are merged, so a box has 6 quad faces.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+///
+/// Built by `from_points`, `cuboid` or, from parts, `new`. The contact search derives which
+/// faces meet at each edge on first use and keeps it: change a hull's parts only on a clone
+/// that has not yet collided (a clone starts without it).
+#[derive(Serialize, Deserialize)]
 pub struct ConvexHull {
     /// The corners, in shape coordinates (m); every one is a vertex of some face.
     pub vertices: Vec<DVec3>,
@@ -73,6 +78,47 @@ pub struct ConvexHull {
     pub faces: Vec<HullFace>,
     /// Each undirected edge once, as (lower index, higher index).
     pub edges: Vec<[u32; 2]>,
+    /// What contact searches ask of every pair, derived from the parts on first use.
+    #[serde(skip)]
+    derived: OnceLock<Derived>,
+}
+
+/// What is derived from a hull's parts and kept.
+struct Derived {
+    /// See `ConvexHull::edge_faces`.
+    edge_faces: Vec<Option<[usize; 2]>>,
+    /// See `ConvexHull::bounds`.
+    bounds: (DVec3, DVec3),
+    /// See `ConvexHull::radius`.
+    radius: f64,
+}
+
+impl Clone for ConvexHull {
+    /// The parts only: a clone is what gets changed, so what was derived from them is not
+    /// carried over.
+    fn clone(&self) -> Self {
+        ConvexHull::new(
+            self.vertices.clone(),
+            self.faces.clone(),
+            self.edges.clone(),
+        )
+    }
+}
+
+impl PartialEq for ConvexHull {
+    fn eq(&self, other: &Self) -> bool {
+        (&self.vertices, &self.faces, &self.edges) == (&other.vertices, &other.faces, &other.edges)
+    }
+}
+
+impl std::fmt::Debug for ConvexHull {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ConvexHull")
+            .field("vertices", &self.vertices)
+            .field("faces", &self.faces)
+            .field("edges", &self.edges)
+            .finish()
+    }
 }
 
 /// Most points a hull may be built from (and most vertices a hand-built hull may have).
@@ -121,6 +167,45 @@ pub enum HullError {
 const VALIDATE_TOLERANCE: f64 = 1e-9;
 
 impl ConvexHull {
+    /// The hull with these parts, taken as given: `validate` checks them.
+    pub fn new(vertices: Vec<DVec3>, faces: Vec<HullFace>, edges: Vec<[u32; 2]>) -> Self {
+        ConvexHull {
+            vertices,
+            faces,
+            edges,
+            derived: OnceLock::new(),
+        }
+    }
+
+    fn derived(&self) -> &Derived {
+        self.derived.get_or_init(|| Derived {
+            edge_faces: faces_at_edges(self.face_loops(), &self.edges),
+            bounds: bounds(&self.vertices),
+            radius: (self.vertices.iter())
+                .map(|v| v.length())
+                .fold(0.0, f64::max),
+        })
+    }
+
+    /// For each edge, the two faces whose loops run along it (one each way); None where
+    /// the loops do not say (a hand-built hull whose loops do not close).
+    pub(crate) fn edge_faces(&self) -> &[Option<[usize; 2]>] {
+        &self.derived().edge_faces
+    }
+
+    /// The smallest and largest coordinates of the vertices, (min, max), in shape
+    /// coordinates; kept, as every pair's search asks for them.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        self.derived().bounds
+    }
+
+    /// How far the farthest vertex lies from the shape origin (m): the radius of the
+    /// smallest sphere about the origin that holds the hull; kept, as every pair's search
+    /// asks for it.
+    pub fn radius(&self) -> f64 {
+        self.derived().radius
+    }
+
     /// The convex hull of `points`. Interior, duplicate and mid-edge/mid-face points are
     /// dropped; the remaining vertices are re-indexed in their input order.
     pub fn from_points(points: &[DVec3]) -> Result<Self, HullError> {
@@ -272,12 +357,37 @@ impl ConvexHull {
             .collect();
         edges.sort_unstable();
         edges.dedup();
-        ConvexHull {
-            vertices,
-            faces,
-            edges,
-        }
+        ConvexHull::new(vertices, faces, edges)
     }
+}
+
+/// For each edge, the two faces whose loops (vertex indices) run along it (one each way).
+pub(crate) fn faces_at_edges<'f>(
+    loops: impl Iterator<Item = &'f [u32]>,
+    edges: &[[u32; 2]],
+) -> Vec<Option<[usize; 2]>> {
+    let mut sides: Vec<(u32, u32, usize)> = loops
+        .enumerate()
+        .flat_map(|(f, face)| {
+            let n = face.len();
+            (0..n).map(move |k| {
+                let (i, j) = (face[k], face[(k + 1) % n]);
+                (i.min(j), i.max(j), f)
+            })
+        })
+        .collect();
+    sides.sort_unstable();
+    edges
+        .iter()
+        .map(|&[i, j]| {
+            let key = (i.min(j), i.max(j));
+            let start = sides.partition_point(|s| (s.0, s.1) < key);
+            match sides.get(start..start + 2) {
+                Some([x, y]) if (x.0, x.1) == key && (y.0, y.1) == key => Some([x.2, y.2]),
+                _ => None,
+            }
+        })
+        .collect()
 }
 
 /// The hull's faces over the normalized cloud, certified convex, or `None` if rounding

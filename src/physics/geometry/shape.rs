@@ -206,7 +206,8 @@ impl Shape {
                 half_height,
                 radius,
             } => DVec3::new(radius, half_height, radius),
-            Shape::ConvexHull(_) | Shape::Compound(_) => return self.bounds_from_supports(),
+            Shape::ConvexHull(ref hull) => return hull.bounds(),
+            Shape::Compound(_) => return self.bounds_from_supports(),
         };
         (-half, half)
     }
@@ -242,7 +243,7 @@ impl Shape {
     }
 
     /// Radius of an origin-centred sphere that holds the shape: the smallest for the
-    /// primitives, the one through the farthest corner of the local bounds for hulls and
+    /// primitives and hulls, the one through the farthest corner of the local bounds for
     /// compounds (at most √3 times the smallest).
     pub fn bounding_radius(&self) -> f64 {
         match *self {
@@ -256,7 +257,8 @@ impl Shape {
                 half_height,
                 radius,
             } => half_height.hypot(radius),
-            Shape::ConvexHull(_) | Shape::Compound(_) => {
+            Shape::ConvexHull(ref hull) => hull.radius(),
+            Shape::Compound(_) => {
                 let (min, max) = self.local_bounds();
                 min.abs().max(max.abs()).length()
             }
@@ -322,10 +324,16 @@ mod tests {
         ]
     }
 
-    /// The closed-form bounds of the primitives are what their support functions give.
+    /// The closed-form bounds of the primitives, and the kept bounds of a hull, are what
+    /// their support functions give.
     #[test]
     fn closed_form_bounds_match_the_supports() {
-        for shape in primitives() {
+        let corners = [0.3, -0.2, 0.5, 0.1, -0.4, 0.25, 0.35, -0.15];
+        let points: Vec<DVec3> = (0..8)
+            .map(|i| DVec3::new(corners[i], corners[(i + 3) % 8], corners[(i + 5) % 8]))
+            .collect();
+        let hull = Shape::hull(&points).expect("a hull");
+        for shape in primitives().into_iter().chain([hull]) {
             assert_eq!(
                 shape.local_bounds(),
                 shape.bounds_from_supports(),
