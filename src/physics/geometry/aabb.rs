@@ -50,9 +50,8 @@ impl Aabb {
                 half_height,
                 radius,
             } => cylinder_half_extents(rotation.y_axis, *half_height, *radius),
-            Shape::ConvexHull(_) | Shape::Compound(_) => {
-                return support_box(shape, origin, rotation);
-            }
+            Shape::ConvexHull(hull) => return vertex_box(&hull.vertices, origin, rotation),
+            Shape::Compound(_) => return support_box(shape, origin, rotation),
         };
         Aabb::from_center_half_extents(origin, half)
     }
@@ -146,6 +145,19 @@ fn cylinder_half_extents(axis: DVec3, half_height: f64, radius: f64) -> DVec3 {
     axis.abs() * half_height + DVec3::new(rim.x.sqrt(), rim.y.sqrt(), rim.z.sqrt()) * radius
 }
 
+/// The box of the vertices turned by `rotation` and moved to `origin`: one pass over the
+/// vertices, where the six supports along ±x, ±y, ±z take six.
+fn vertex_box(vertices: &[DVec3], origin: DVec3, rotation: DMat3) -> Aabb {
+    let (min, max) =
+        vertices
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(min, max), &v| {
+                let turned = rotation * v;
+                (min.min(turned), max.max(turned))
+            });
+    Aabb::new(origin + min, origin + max)
+}
+
 /// Extents from the support function along ±x, ±y, ±z (exact for any convex shape).
 fn support_box(shape: &Shape, origin: DVec3, rotation: DMat3) -> Aabb {
     let local_axes = rotation.transpose();
@@ -153,4 +165,44 @@ fn support_box(shape: &Shape, origin: DVec3, rotation: DMat3) -> Aabb {
     let max = DVec3::new(reach(DVec3::X), reach(DVec3::Y), reach(DVec3::Z));
     let min = -DVec3::new(reach(-DVec3::X), reach(-DVec3::Y), reach(-DVec3::Z));
     Aabb::new(origin + min, origin + max)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DQuat;
+
+    use super::*;
+
+    /// A hull's box from its turned vertices is the one its supports along the axes give,
+    /// to round-off, at turns all over the sphere.
+    #[test]
+    fn a_hull_box_is_the_box_of_its_supports() {
+        let points: Vec<DVec3> = (0..40)
+            .map(|i| {
+                let t = i as f64;
+                DVec3::new(
+                    (1.3 * t).sin(),
+                    (0.7 * t).cos() * 0.6,
+                    (2.1 * t).sin() * 0.3,
+                )
+            })
+            .collect();
+        let hull = Shape::hull(&points).expect("a hull");
+        for k in 0..100 {
+            let t = k as f64 * 0.37;
+            let rotation =
+                DMat3::from_quat(DQuat::from_euler(glam::EulerRot::XYZ, t, 2.0 * t, 0.5));
+            let origin = DVec3::new(3.0, -1.0, 0.5) * t;
+            let by_vertices = Aabb::of_shape(&hull, origin, rotation);
+            let by_supports = support_box(&hull, origin, rotation);
+            let error = (by_vertices.min - by_supports.min)
+                .abs()
+                .max((by_vertices.max - by_supports.max).abs())
+                .max_element();
+            assert!(
+                error <= 1e-12 * (1.0 + origin.length()),
+                "turn {k}: off by {error:e}"
+            );
+        }
+    }
 }
