@@ -395,3 +395,41 @@ fn c6_sliding_sphere_rolls_at_five_sevenths_with_the_classic_pipeline() {
     println!("classic C6: {v:.5} m/s, expected {:.5}", 25.0 / 7.0);
     assert!((v - 25.0 / 7.0).abs() / (25.0 / 7.0) < 0.02);
 }
+
+/// A user's force and torque act over the whole step however many slices the step is cut
+/// into: a free body pushed for one step of 0.1 s gains exactly F·dt and τ·dt of momentum
+/// (the slices add F·dt/n n times; round-off only), in both main loops.
+#[test]
+fn a_user_force_acts_over_every_slice_of_the_step() {
+    let dt = 0.1;
+    let force = DVec3::new(3.0, -2.0, 1.5);
+    let lever = DVec3::new(0.0, 0.2, 0.0);
+    for main_loop in [MainLoop::Ordered, MainLoop::Simple] {
+        for substeps in [1, 4] {
+            let mut world = classic_world(false);
+            world.settings.classic.substeps = substeps;
+            world.settings.classic.main_loop = main_loop;
+            let ball = BodyDesc::dynamic(Shape::sphere(0.1)).with_material(material(0.5, 0.5));
+            let id = world.add_body(ball).unwrap();
+            let body = world.body_mut(id);
+            let point = body.position + lever;
+            body.apply_force_at(force, point);
+            world.step(dt);
+            let body = world.body(id);
+            let torque = lever.cross(force);
+            let tolerance = 1e-12 * force.length() * dt;
+            assert!(
+                (body.linear_momentum - force * dt).length() <= tolerance,
+                "{main_loop:?} ×{substeps}: p = {} against F dt = {}",
+                body.linear_momentum,
+                force * dt
+            );
+            assert!(
+                (body.angular_momentum - torque * dt).length() <= tolerance,
+                "{main_loop:?} ×{substeps}: L = {} against τ dt = {}",
+                body.angular_momentum,
+                torque * dt
+            );
+        }
+    }
+}

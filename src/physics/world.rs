@@ -116,6 +116,8 @@ pub struct World {
     /// kept so that a step reuses its memory).
     pairs: Vec<BodyPair>,
     classic_report: ClassicReport,
+    /// The users' forces and torques, held over the classic pipeline's slices.
+    classic_loads: Vec<[DVec3; 2]>,
     stage_times: StageTimes,
     /// Whether steps measure `stage_times`.
     stage_timing: bool,
@@ -220,6 +222,7 @@ impl World {
             awake: 0,
             pairs: Vec::new(),
             classic_report: ClassicReport::default(),
+            classic_loads: Vec::new(),
             stage_times: StageTimes::default(),
             stage_timing: false,
             forces: Vec::new(),
@@ -484,7 +487,8 @@ impl World {
             settings: &self.settings.classic,
             dt,
         };
-        let (report, touching) = classic::step(&mut self.bodies, &self.pairs, &ctx);
+        let loads = &mut self.classic_loads;
+        let (report, touching) = classic::step(&mut self.bodies, &self.pairs, &ctx, loads);
         self.classic_report = report;
         self.manifolds = touching;
         self.manifold_memory.clear();

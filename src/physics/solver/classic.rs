@@ -110,19 +110,32 @@ pub struct ClassicContext<'a> {
 
 /// Advances the bodies by `ctx.dt`. `pairs` are the broad phase's candidates for the step.
 /// Returns the counters and the manifolds resolved at the last event (for display).
+///
+/// The forces and torques users put on the bodies act over the whole step: each slice
+/// clears them once it has applied them (so that its predictions move bodies
+/// ballistically), so they are held in `loads` (a list kept between steps, so that it
+/// allocates once) and put back before the next slice.
 pub fn step(
     bodies: &mut [RigidBody],
     pairs: &[BodyPair],
     ctx: &ClassicContext,
+    loads: &mut Vec<[DVec3; 2]>,
 ) -> (ClassicReport, Vec<ContactManifold>) {
     let slices = ctx.settings.substeps.max(1);
     let slice = ClassicContext {
         dt: ctx.dt / slices as f64,
         ..*ctx
     };
+    loads.clear();
+    loads.extend(bodies.iter().map(|body| [body.force, body.torque]));
     let mut total = ClassicReport::default();
     let mut touching = Vec::new();
-    for _ in 0..slices {
+    for index in 0..slices {
+        if index > 0 {
+            for (body, &[force, torque]) in bodies.iter_mut().zip(loads.iter()) {
+                (body.force, body.torque) = (force, torque);
+            }
+        }
         let (report, last) = match ctx.settings.main_loop {
             MainLoop::Ordered => {
                 apply_forces(bodies, ctx.forces, slice.dt);
