@@ -2,10 +2,13 @@
 //! time per step and error against a reference, printed as a Markdown section.
 //!
 //! Run: `CARGO_TARGET_DIR=/work/target-peer cargo run --release --manifest-path peer/Cargo.toml`
+//! (every scene; `-- --help` lists the options: `--scene`, `--steps`, `--repeats`).
 
+mod box3d;
 mod ours;
 mod overlap;
 mod scenes;
+mod stress;
 mod theirs;
 
 use std::time::Instant;
@@ -19,6 +22,8 @@ use crate::theirs::Theirs;
 
 /// What the benchmark needs from an engine. Body `i` is `scene.bodies[i]` in both engines.
 pub trait Engine {
+    /// The engine's name, for progress lines.
+    const NAME: &'static str;
     /// With `substeps` solver substeps (rapier: solver iterations), or the engine's default.
     fn build(scene: &SceneDesc, substeps: Option<u32>) -> Self;
     fn step(&mut self);
@@ -57,18 +62,9 @@ fn median(mut values: Vec<f64>) -> f64 {
     values[values.len() / 2]
 }
 
-/// Both engines `REPEATS` times each, taking turns so that a load that comes and goes on the
+/// Both engines `repeats` times each, taking turns so that a load that comes and goes on the
 /// machine falls on both alike, each with the substeps given (None: its default). Returns
 /// each engine's last run (the runs are deterministic) and the median ms per step of each.
-fn run_both(
-    scene: &SceneDesc,
-    ours_substeps: Option<u32>,
-    theirs_substeps: Option<u32>,
-) -> ((Ours, f64), (Theirs, f64)) {
-    run_both_times(scene, ours_substeps, theirs_substeps, REPEATS)
-}
-
-/// `run_both` with `repeats` runs of each engine.
 fn run_both_times(
     scene: &SceneDesc,
     ours_substeps: Option<u32>,
@@ -89,6 +85,11 @@ fn run_both_times(
         (ours_last.expect("ran"), median(ours_times)),
         (theirs_last.expect("ran"), median(theirs_times)),
     )
+}
+
+/// A scene's simulated time, for the table ("10 s").
+fn duration(scene: &SceneDesc) -> String {
+    format!("{} s", (scene.steps as f64 * DT * 100.0).round() / 100.0)
 }
 
 /// One table row: times in ms per step, errors already formatted, and the error ratio when
@@ -125,16 +126,16 @@ fn pyramid_result<E: Engine>(engine: &E, scene: &SceneDesc) -> (f64, usize, usiz
     (drift, asleep, dynamic_bodies(scene).count())
 }
 
-fn pyramid_row() -> Row {
-    let scene = scenes::pyramid();
+fn pyramid_row(opts: &Options) -> Row {
+    let scene = opts.cut(scenes::pyramid());
     let ((ours, ours_ms), (theirs, theirs_ms)) =
-        run_both_times(&scene, None, None, PYRAMID_REPEATS);
+        run_both_times(&scene, None, None, opts.repeats(PYRAMID_REPEATS));
     let (ours_drift, ours_asleep, n) = pyramid_result(&ours, &scene);
     let (theirs_drift, theirs_asleep, _) = pyramid_result(&theirs, &scene);
     let cell =
         |drift: f64, asleep: usize| format!("drift {:.1} mm, {asleep}/{n} asleep", drift * 1e3);
     Row {
-        scene: format!("pyramid, {n} boxes, 10 s"),
+        scene: format!("pyramid, {n} boxes, {}", duration(&scene)),
         ours_ms,
         theirs_ms,
         ours_error: cell(ours_drift, ours_asleep),
@@ -161,9 +162,11 @@ fn rain_result<E: Engine>(engine: &E, scene: &SceneDesc, bin: scenes::Bin) -> (u
     (escaped, total_energy(engine, scene) / start)
 }
 
-fn rain_row(count: usize) -> Row {
+fn rain_row(count: usize, opts: &Options) -> Row {
     let (scene, bin) = scenes::rain(count);
-    let ((ours, ours_ms), (theirs, theirs_ms)) = run_both(&scene, None, None);
+    let scene = opts.cut(scene);
+    let ((ours, ours_ms), (theirs, theirs_ms)) =
+        run_both_times(&scene, None, None, opts.repeats(REPEATS));
     let (ours_escaped, ours_energy) = rain_result(&ours, &scene, bin);
     let (theirs_escaped, theirs_energy) = rain_result(&theirs, &scene, bin);
     let (ours_overlap, theirs_overlap) = (overlap(&ours, &scene), overlap(&theirs, &scene));
@@ -177,7 +180,8 @@ fn rain_row(count: usize) -> Row {
     };
     Row {
         scene: format!(
-            "rain {count}, bin {w:.0} × {w:.0} × {h:.2} m, 5 s",
+            "rain {count}, bin {w:.0} × {w:.0} × {h:.2} m, {}",
+            duration(&scene),
             w = 2.0 * bin.half_width,
             h = bin.wall_height
         ),
@@ -236,10 +240,10 @@ fn bounce_apexes<E: Engine>(scene: &SceneDesc, radius: f64) -> (Vec<f64>, f64) {
     (apexes, ms)
 }
 
-fn bounce_rows() -> Vec<Row> {
+fn bounce_rows(opts: &Options) -> Vec<Row> {
     const DROP: f64 = 5.0;
     const RESTITUTION: f64 = 0.8;
-    let scene = scenes::bounce(DROP, RESTITUTION);
+    let scene = opts.cut(scenes::bounce(DROP, RESTITUTION));
     let (ours, ours_ms) = bounce_apexes::<Ours>(&scene, 0.5);
     let (theirs, theirs_ms) = bounce_apexes::<Theirs>(&scene, 0.5);
     (1..=3)
@@ -263,10 +267,10 @@ fn bounce_rows() -> Vec<Row> {
         .collect()
 }
 
-fn slide_row() -> Row {
+fn slide_row(opts: &Options) -> Row {
     const SPEED: f64 = 5.0;
     const MU: f64 = 0.5;
-    let scene = scenes::slide(SPEED);
+    let scene = opts.cut(scenes::slide(SPEED));
     let exact = SPEED * SPEED / (2.0 * MU * GRAVITY);
     let distance = |position: DVec3, speed: f64| {
         let (error, cell) = relative(position.x - scene.bodies[1].position.x, exact, "m");
@@ -292,8 +296,8 @@ fn slide_row() -> Row {
     }
 }
 
-fn roll_row() -> Row {
-    let scene = scenes::roll(ROLL_SPEED);
+fn roll_row(opts: &Options) -> Row {
+    let scene = opts.cut(scenes::roll(ROLL_SPEED));
     let exact = rolled_speed();
     let (ours, ours_ms) = run_observed::<Ours>(&scene, |_| {});
     let (theirs, theirs_ms) = run_observed::<Theirs>(&scene, |_| {});
@@ -485,7 +489,8 @@ fn locked_version(package: &str) -> &'static str {
         .unwrap_or("unknown")
 }
 
-fn details() -> String {
+fn details(opts: &Options) -> String {
+    let (repeats, pyramid_repeats) = (opts.repeats(REPEATS), opts.repeats(PYRAMID_REPEATS));
     let ours = rigid::physics::World::default().settings;
     let solver = ours.solver;
     let sleep = ours.sleep;
@@ -512,7 +517,7 @@ fn details() -> String {
          friction, which is what ours does, so mixed pairs get the same coefficients. In the \
          C2, C4 and C6 cases both bodies have the same values, so any rule gives the same.\n\
          - Times: wall time of the steps only (not the building), ms per step, median of \
-         {REPEATS} runs with the two engines taking turns ({PYRAMID_REPEATS} for the pyramid, \
+         {repeats} runs with the two engines taking turns ({pyramid_repeats} for the pyramid, \
          whose runs are short); the C cases run once each. Errors: \
          pyramid, the largest distance any box moved from its start; rain, bodies whose centre \
          left the bin (should be 0), the energy left at the end (kinetic + m g y above the \
@@ -602,7 +607,126 @@ fn notes(rows: &[Row]) -> String {
     )
 }
 
+/// The old scenes (the report's first table and its sweeps), by name.
+const OLD: &[&str] = &[
+    "pyramid", "rain1000", "rain4000", "bounce", "slide", "roll", "sweeps",
+];
+
+const USAGE: &str = "\
+Usage: peer-bench [--scene NAME]... [--steps N] [--repeats N] [--list]
+
+  --scene NAME   run only these scenes (repeat it, or give a comma-separated list);
+                 NAME is a scene, or `old`, `stress` or `all` (the default: every scene)
+  --steps N      cut every scene to at most N steps (at least 2), for smoke runs
+  --repeats N    timed runs of each engine per setting, instead of each scene's own
+  --list         list the scenes and exit
+
+Box3D's benchmark program also runs, on large_pyramid, many_pyramids and convex_pile, when
+BOX3D_DIR names a Box3D checkout built with cmake (see peer/src/box3d.rs).";
+
+/// The command line.
+struct Options {
+    /// The scenes to run, in the report's order.
+    scenes: Vec<&'static str>,
+    steps: Option<usize>,
+    repeats: Option<usize>,
+}
+
+impl Options {
+    fn parse(args: impl Iterator<Item = String>) -> Result<Options, String> {
+        let mut wanted: Vec<String> = Vec::new();
+        let (mut steps, mut repeats) = (None, None);
+        let mut args = args.peekable();
+        let number = |flag: &str, value: Option<String>, least: usize| {
+            value
+                .as_deref()
+                .and_then(|v| v.parse::<usize>().ok())
+                .filter(|&n| n >= least)
+                .ok_or(format!("{flag} needs a whole number of at least {least}"))
+        };
+        while let Some(arg) = args.next() {
+            let (flag, inline) = match arg.split_once('=') {
+                Some((flag, value)) => (flag.to_owned(), Some(value.to_owned())),
+                None => (arg.clone(), None),
+            };
+            let mut value = || inline.clone().or_else(|| args.next());
+            match flag.as_str() {
+                "--scene" | "-s" => {
+                    let list = value().ok_or("--scene needs a name")?;
+                    wanted.extend(list.split(',').map(str::to_owned));
+                }
+                "--steps" => steps = Some(number("--steps", value(), 2)?),
+                "--repeats" => repeats = Some(number("--repeats", value(), 1)?),
+                "--list" => {
+                    println!(
+                        "old: {}\nstress: {}",
+                        OLD.join(" "),
+                        scenes::STRESS.join(" ")
+                    );
+                    std::process::exit(0);
+                }
+                "--help" | "-h" => {
+                    println!("{USAGE}");
+                    std::process::exit(0);
+                }
+                _ => return Err(format!("unknown argument `{arg}`\n\n{USAGE}")),
+            }
+        }
+        if wanted.is_empty() {
+            wanted.push("all".to_owned());
+        }
+        let all: Vec<&'static str> = OLD.iter().chain(scenes::STRESS).copied().collect();
+        let mut chosen = Vec::new();
+        for name in &wanted {
+            let group: Vec<&'static str> = match name.as_str() {
+                "all" => all.clone(),
+                "old" => OLD.to_vec(),
+                "stress" | "new" => scenes::STRESS.to_vec(),
+                other => match all.iter().find(|&&n| n == other) {
+                    Some(&n) => vec![n],
+                    None => {
+                        return Err(format!(
+                            "no scene `{other}`: the scenes are {} (or old, stress, all)",
+                            all.join(", ")
+                        ));
+                    }
+                },
+            };
+            chosen.extend(group);
+        }
+        // The report's order, each once.
+        let scenes = all.into_iter().filter(|n| chosen.contains(n)).collect();
+        Ok(Options {
+            scenes,
+            steps,
+            repeats,
+        })
+    }
+
+    fn has(&self, name: &str) -> bool {
+        self.scenes.contains(&name)
+    }
+
+    /// `default` timed runs unless `--repeats` said otherwise.
+    fn repeats(&self, default: usize) -> usize {
+        self.repeats.unwrap_or(default)
+    }
+
+    /// The scene cut to `--steps`, if that is fewer than its own.
+    fn cut(&self, scene: SceneDesc) -> SceneDesc {
+        let steps = self.steps.map_or(scene.steps, |n| n.min(scene.steps));
+        SceneDesc { steps, ..scene }
+    }
+}
+
 fn main() {
+    let opts = match Options::parse(std::env::args().skip(1)) {
+        Ok(opts) => opts,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2);
+        }
+    };
     // Our narrow phase spreads over rayon's threads; rapier here runs on one thread. Unless
     // told otherwise, ours gets one thread too, so the times compare like with like.
     if std::env::var_os("RAYON_NUM_THREADS").is_none() {
@@ -610,60 +734,101 @@ fn main() {
         unsafe { std::env::set_var("RAYON_NUM_THREADS", "1") };
     }
     // Progress goes to stderr, so that stdout stays the Markdown section alone.
-    eprintln!("pyramid…");
-    let mut rows = vec![pyramid_row()];
-    for count in [1000, 4000] {
-        eprintln!("rain {count}…");
-        rows.push(rain_row(count));
+    let mut rows = Vec::new();
+    if opts.has("pyramid") {
+        eprintln!("pyramid…");
+        rows.push(pyramid_row(&opts));
     }
-    eprintln!("C2, C4, C6…");
-    rows.extend(bounce_rows());
-    rows.push(slide_row());
-    rows.push(roll_row());
-    eprintln!("sweeps…");
-    let sweeps = [
-        sweep(
-            "pyramid",
-            &scenes::pyramid(),
-            SweepError::Drift,
-            SWEEP,
-            PYRAMID_REPEATS,
-        ),
-        sweep(
-            "rain 1000",
-            &scenes::rain(1000).0,
-            SweepError::DeepestOverlap,
-            SWEEP,
-            REPEATS,
-        ),
-        sweep(
-            "rain 4000",
-            &scenes::rain(4000).0,
-            SweepError::DeepestOverlap,
-            LARGE_SWEEP,
-            LARGE_REPEATS,
-        ),
-        sweep(
-            "C6 rolling",
-            &scenes::roll(ROLL_SPEED),
-            SweepError::RollingSpeed,
-            SWEEP,
-            PYRAMID_REPEATS,
-        ),
-    ];
+    for (name, count) in [("rain1000", 1000), ("rain4000", 4000)] {
+        if opts.has(name) {
+            eprintln!("rain {count}…");
+            rows.push(rain_row(count, &opts));
+        }
+    }
+    if opts.has("bounce") {
+        eprintln!("C2…");
+        rows.extend(bounce_rows(&opts));
+    }
+    if opts.has("slide") {
+        eprintln!("C4…");
+        rows.push(slide_row(&opts));
+    }
+    if opts.has("roll") {
+        eprintln!("C6…");
+        rows.push(roll_row(&opts));
+    }
+    let sweeps = if opts.has("sweeps") {
+        eprintln!("sweeps…");
+        vec![
+            sweep(
+                "pyramid",
+                &opts.cut(scenes::pyramid()),
+                SweepError::Drift,
+                SWEEP,
+                opts.repeats(PYRAMID_REPEATS),
+            ),
+            sweep(
+                "rain 1000",
+                &opts.cut(scenes::rain(1000).0),
+                SweepError::DeepestOverlap,
+                SWEEP,
+                opts.repeats(REPEATS),
+            ),
+            sweep(
+                "rain 4000",
+                &opts.cut(scenes::rain(4000).0),
+                SweepError::DeepestOverlap,
+                LARGE_SWEEP,
+                opts.repeats(LARGE_REPEATS),
+            ),
+            sweep(
+                "C6 rolling",
+                &opts.cut(scenes::roll(ROLL_SPEED)),
+                SweepError::RollingSpeed,
+                SWEEP,
+                opts.repeats(PYRAMID_REPEATS),
+            ),
+        ]
+    } else {
+        Vec::new()
+    };
+    let stress: Vec<&str> = scenes::STRESS
+        .iter()
+        .copied()
+        .filter(|n| opts.has(n))
+        .collect();
+    let stress = (!stress.is_empty()).then(|| stress::report(&stress, &opts));
+
     println!("## Side by side with rapier3d\n");
-    println!("{}", details());
-    println!("{}", table(&rows));
-    println!("{}", notes(&rows));
-    println!("### Work against error over the substeps\n");
-    println!(
-        "Both engines over their substeps, in pairs taking turns as above ({REPEATS} runs each, \
-         the pyramid and C6 {PYRAMID_REPEATS}; the rain of 4000 {LARGE_REPEATS}, at one pair of \
-         settings). Our spring stiffness \
-         stays at its default, capped at a fifth of the substep rate. The errors are the \
-         table's: the pyramid's worst drift, the rain's deepest overlap, C6's relative error \
-         of the final speed.\n"
-    );
-    println!("{}", sweep_table(&sweeps));
-    println!("{}", sweep_verdicts(&sweeps));
+    if let Some(n) = opts.steps {
+        println!(
+            "**Smoke run: every scene cut to at most {n} steps (`--steps`); these are not results.**\n"
+        );
+    }
+    println!("{}", details(&opts));
+    if !rows.is_empty() {
+        println!("{}", table(&rows));
+        println!("{}", notes(&rows));
+    }
+    if !sweeps.is_empty() {
+        let (repeats, pyramid_repeats, large_repeats) = (
+            opts.repeats(REPEATS),
+            opts.repeats(PYRAMID_REPEATS),
+            opts.repeats(LARGE_REPEATS),
+        );
+        println!("### Work against error over the substeps\n");
+        println!(
+            "Both engines over their substeps, in pairs taking turns as above ({repeats} runs \
+             each, the pyramid and C6 {pyramid_repeats}; the rain of 4000 {large_repeats}, at one \
+             pair of settings). Our spring stiffness \
+             stays at its default, capped at a fifth of the substep rate. The errors are the \
+             table's: the pyramid's worst drift, the rain's deepest overlap, C6's relative error \
+             of the final speed.\n"
+        );
+        println!("{}", sweep_table(&sweeps));
+        println!("{}", sweep_verdicts(&sweeps));
+    }
+    if let Some(stress) = stress {
+        println!("{stress}");
+    }
 }

@@ -1,6 +1,7 @@
 //! Our engine (`rigid`) built from a shared scene description, at its default settings:
 //! the `soft` pipeline with 8 substeps, the midpoint integrator and sleeping on. Only the
-//! substeps may be set otherwise (for the sweep of work against error).
+//! substeps may be set otherwise (for the sweep of work against error), and sleeping turned
+//! off where the scene says so.
 
 use glam::{DMat3, DVec3};
 use rigid::physics::{BodyDesc, BodyId, EnvironmentForce, Material, Shape, World};
@@ -14,8 +15,23 @@ pub struct Ours {
     ids: Vec<BodyId>,
 }
 
-/// Our shape for a shared shape description.
-pub fn shape_of(shape: ShapeDesc) -> Shape {
+/// Our shape of each body of the scene, in its order. Each of the scene's hulls is built
+/// once, by our hull code (`ConvexHull::from_points`), and shared by the bodies using it.
+pub fn shapes_of(scene: &SceneDesc) -> Vec<Shape> {
+    let hulls: Vec<Shape> = scene
+        .hulls
+        .iter()
+        .map(|points| Shape::hull(points).expect("scene hulls span a volume"))
+        .collect();
+    scene
+        .bodies
+        .iter()
+        .map(|b| shape_of(b.shape, &hulls))
+        .collect()
+}
+
+/// Our shape for a shared shape description; `hulls` are the scene's hulls, built.
+fn shape_of(shape: ShapeDesc, hulls: &[Shape]) -> Shape {
     match shape {
         ShapeDesc::Sphere { radius } => Shape::sphere(radius),
         ShapeDesc::Cuboid { half_extents } => Shape::cuboid(half_extents),
@@ -27,23 +43,27 @@ pub fn shape_of(shape: ShapeDesc) -> Shape {
             half_height,
             radius,
         } => Shape::cylinder(half_height, radius),
+        ShapeDesc::Hull { hull } => hulls[hull].clone(),
     }
 }
 
 impl Engine for Ours {
+    const NAME: &'static str = "ours";
+
     fn build(scene: &SceneDesc, substeps: Option<u32>) -> Self {
         let mut world = World::default();
         if let Some(substeps) = substeps {
             world.settings.solver.substeps = substeps;
         }
+        world.settings.sleep.enabled = scene.sleeping;
         world.forces.push(EnvironmentForce::Gravity {
             acceleration: DVec3::new(0.0, -scenes::GRAVITY, 0.0),
         });
         let ids = scene
             .bodies
             .iter()
-            .map(|b| {
-                let shape = shape_of(b.shape);
+            .zip(shapes_of(scene))
+            .map(|(b, shape)| {
                 let desc = if b.fixed {
                     BodyDesc::fixed(shape)
                 } else {

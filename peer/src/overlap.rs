@@ -8,7 +8,7 @@
 use rigid::physics::{PosedShape, signed_distance};
 
 use crate::Engine;
-use crate::ours::shape_of;
+use crate::ours::shapes_of;
 use crate::scenes::SceneDesc;
 
 #[derive(Clone, Copy, Debug)]
@@ -20,20 +20,25 @@ pub struct Overlap {
     pub pairs: usize,
 }
 
-/// Every pair with a moving body whose bounding spheres meet is measured.
+/// Every pair with a moving body whose bounding spheres meet is measured (a hull's shape
+/// origin is its centre of mass here: see `SceneDesc::hulls`).
 pub fn overlap<E: Engine>(engine: &E, scene: &SceneDesc) -> Overlap {
-    let shapes: Vec<_> = scene.bodies.iter().map(|b| shape_of(b.shape)).collect();
+    let shapes = shapes_of(scene);
     let posed: Vec<PosedShape> = (0..shapes.len())
         .map(|i| PosedShape::new(&shapes[i], engine.position(i), engine.orientation(i)))
         .collect();
+    // Once per shape: a hull's radius is a pass over its vertices.
+    let radii: Vec<f64> = shapes.iter().map(|s| s.bounding_radius()).collect();
     let (mut deepest, mut total, mut pairs) = (0.0_f64, 0.0, 0);
     for i in 0..shapes.len() {
         for j in i + 1..shapes.len() {
             if scene.bodies[i].fixed && scene.bodies[j].fixed {
                 continue;
             }
-            let reach = shapes[i].bounding_radius() + shapes[j].bounding_radius();
-            if posed[i].origin.distance(posed[j].origin) > reach {
+            let reach = radii[i] + radii[j];
+            // Written so that a body gone non-finite (counted as lost elsewhere) is skipped.
+            let apart = posed[i].origin.distance(posed[j].origin);
+            if apart.is_nan() || apart > reach {
                 continue;
             }
             let depth = -signed_distance(&posed[i], &posed[j]).distance;

@@ -11,13 +11,29 @@ pub const GRAVITY: f64 = 9.81;
 pub const DT: f64 = 1.0 / 60.0;
 
 /// The four primitive shapes both engines have natively, in the same conventions: half
-/// extents, and capsules and cylinders along their local y axis.
+/// extents, and capsules and cylinders along their local y axis; and convex hulls of a point
+/// cloud of the scene's (`SceneDesc::hulls`), which each engine builds with its own hull
+/// code, once per cloud, and shares between the bodies that use it.
 #[derive(Clone, Copy, Debug)]
 pub enum ShapeDesc {
-    Sphere { radius: f64 },
-    Cuboid { half_extents: DVec3 },
-    Capsule { half_height: f64, radius: f64 },
-    Cylinder { half_height: f64, radius: f64 },
+    Sphere {
+        radius: f64,
+    },
+    Cuboid {
+        half_extents: DVec3,
+    },
+    Capsule {
+        half_height: f64,
+        radius: f64,
+    },
+    Cylinder {
+        half_height: f64,
+        radius: f64,
+    },
+    /// The hull of `SceneDesc::hulls[hull]`.
+    Hull {
+        hull: usize,
+    },
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -59,12 +75,19 @@ impl BodyDesc {
     }
 }
 
-/// A scene: its bodies (indices into `bodies` name the same body in both engines) and how
-/// long it runs.
+/// A scene: its bodies (indices into `bodies` name the same body in both engines), the point
+/// clouds of its hulls, how long it runs and whether bodies may sleep.
 #[derive(Clone, Debug)]
 pub struct SceneDesc {
     pub bodies: Vec<BodyDesc>,
+    /// Point clouds, m, in shape coordinates, each centred on the centre of mass of its hull
+    /// (so that a hull body's centre of mass, which both engines report as its position, is
+    /// also its shape's origin).
+    pub hulls: Vec<Vec<DVec3>>,
     pub steps: usize,
+    /// Whether bodies may fall asleep (each engine with its own default thresholds); off, no
+    /// body ever sleeps in either engine.
+    pub sleeping: bool,
 }
 
 fn steps_for(seconds: f64) -> usize {
@@ -80,7 +103,9 @@ pub fn pyramid() -> SceneDesc {
     let bodies = descs.iter().map(from_rigid_desc).collect();
     SceneDesc {
         bodies,
+        hulls: Vec::new(),
         steps: steps_for(10.0),
+        sleeping: true,
     }
 }
 
@@ -171,12 +196,57 @@ fn euler_deg(x: f64, y: f64, z: f64) -> DQuat {
 /// A rain of `count` mixed bodies (spheres, boxes, capsules and cylinders, taking turns so
 /// each kind is a quarter of the total) with the shapes, materials and tilts of
 /// `scenes/rain.ron`, on a grid above an open bin sized for `count`, run for 5 s.
+pub fn rain(count: usize) -> (SceneDesc, Bin) {
+    let (mut bodies, bin, drops) = rain_layout(count);
+    for (i, position) in drops.into_iter().enumerate() {
+        let (shape, material, rotation) = match i % 4 {
+            0 => (ShapeDesc::Sphere { radius: 0.15 }, RUBBER, DQuat::IDENTITY),
+            1 => (
+                ShapeDesc::Cuboid {
+                    half_extents: DVec3::new(0.15, 0.1, 0.12),
+                },
+                WOOD,
+                euler_deg(15.0, 30.0, 0.0),
+            ),
+            2 => (
+                ShapeDesc::Capsule {
+                    half_height: 0.12,
+                    radius: 0.08,
+                },
+                PLASTIC,
+                euler_deg(90.0, 0.0, 30.0),
+            ),
+            _ => (
+                ShapeDesc::Cylinder {
+                    half_height: 0.08,
+                    radius: 0.15,
+                },
+                WOOD,
+                euler_deg(0.0, 0.0, 40.0),
+            ),
+        };
+        bodies.push(BodyDesc {
+            rotation,
+            ..BodyDesc::dynamic(shape, material, position)
+        });
+    }
+    let scene = SceneDesc {
+        bodies,
+        hulls: Vec::new(),
+        steps: steps_for(5.0),
+        sleeping: true,
+    };
+    (scene, bin)
+}
+
+/// The bin of a rain of `count` bodies (floor and four walls, fixed) and the `count` drop
+/// points above it, for bodies that reach at most 0.2 m from their centre.
 ///
 /// Sizing: a settled body takes at most about 0.05 m³ of the pile (its bounding box plus
 /// the gaps of a random pile), so the walls are made twice as tall as that pile would be;
 /// the bodies start above the walls, 0.5 m apart (the largest body spans 0.4 m), so no two
 /// touch at the start.
-pub fn rain(count: usize) -> (SceneDesc, Bin) {
+fn rain_layout(count: usize) -> (Vec<BodyDesc>, Bin, Vec<DVec3>) {
     const SPACING: f64 = 0.5;
     const WALL: f64 = 0.1; // half thickness of floor and walls
     let half_width = if count <= 1000 { 2.5 } else { 4.0 };
@@ -216,51 +286,19 @@ pub fn rain(count: usize) -> (SceneDesc, Bin) {
     // its bodies (at most 0.2 m from their centre) 0.05 m clear of the walls.
     let per_row = ((2.0 * (w - 0.35)) / SPACING).floor() as usize + 1;
     let start = -((per_row - 1) as f64) * SPACING / 2.0;
-    for i in 0..count {
-        let layer = i / (per_row * per_row);
-        let in_layer = i % (per_row * per_row);
-        let shift = if layer % 2 == 1 { 0.1 } else { 0.0 };
-        let position = DVec3::new(
-            start + (in_layer % per_row) as f64 * SPACING + shift,
-            h + 1.0 + layer as f64 * SPACING,
-            start + (in_layer / per_row) as f64 * SPACING + shift,
-        );
-        let (shape, material, rotation) = match i % 4 {
-            0 => (ShapeDesc::Sphere { radius: 0.15 }, RUBBER, DQuat::IDENTITY),
-            1 => (
-                ShapeDesc::Cuboid {
-                    half_extents: DVec3::new(0.15, 0.1, 0.12),
-                },
-                WOOD,
-                euler_deg(15.0, 30.0, 0.0),
-            ),
-            2 => (
-                ShapeDesc::Capsule {
-                    half_height: 0.12,
-                    radius: 0.08,
-                },
-                PLASTIC,
-                euler_deg(90.0, 0.0, 30.0),
-            ),
-            _ => (
-                ShapeDesc::Cylinder {
-                    half_height: 0.08,
-                    radius: 0.15,
-                },
-                WOOD,
-                euler_deg(0.0, 0.0, 40.0),
-            ),
-        };
-        bodies.push(BodyDesc {
-            rotation,
-            ..BodyDesc::dynamic(shape, material, position)
-        });
-    }
-    let scene = SceneDesc {
-        bodies,
-        steps: steps_for(5.0),
-    };
-    (scene, bin)
+    let drops = (0..count)
+        .map(|i| {
+            let layer = i / (per_row * per_row);
+            let in_layer = i % (per_row * per_row);
+            let shift = if layer % 2 == 1 { 0.1 } else { 0.0 };
+            DVec3::new(
+                start + (in_layer % per_row) as f64 * SPACING + shift,
+                h + 1.0 + layer as f64 * SPACING,
+                start + (in_layer / per_row) as f64 * SPACING + shift,
+            )
+        })
+        .collect();
+    (bodies, bin, drops)
 }
 
 /// A large static floor with its top at y = 0, of the given material.
@@ -290,7 +328,9 @@ pub fn bounce(drop_height: f64, restitution: f64) -> SceneDesc {
     );
     SceneDesc {
         bodies: vec![floor(material), ball],
+        hulls: Vec::new(),
         steps: steps_for(6.0),
+        sleeping: true,
     }
 }
 
@@ -317,7 +357,9 @@ pub fn slide(speed: f64) -> SceneDesc {
     };
     SceneDesc {
         bodies: vec![floor(FRICTION_CASE), block],
+        hulls: Vec::new(),
         steps: steps_for(3.0),
+        sleeping: true,
     }
 }
 
@@ -334,6 +376,432 @@ pub fn roll(speed: f64) -> SceneDesc {
     };
     SceneDesc {
         bodies: vec![floor(FRICTION_CASE), ball],
+        hulls: Vec::new(),
         steps: steps_for(2.0),
+        sleeping: true,
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Stress scenes: large stacks and piles, several of them Box3D's benchmarks
+// (`shared/benchmarks.c` of erincatto/box3d), rebuilt here from their description.
+
+/// Where a body must stay to count as kept: inside this box, with a finite position.
+#[derive(Clone, Copy, Debug)]
+pub struct Region {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl Region {
+    /// Above a floor whose top is at y = 0, within its footprint |x| ≤ `half_x`,
+    /// |z| ≤ `half_z` widened by 1 m, and no more than 1 m below its top: a body that slides
+    /// off the edge or sinks through the floor is lost.
+    fn above_floor(half_x: f64, half_z: f64) -> Self {
+        Region {
+            min: DVec3::new(-half_x - 1.0, -1.0, -half_z - 1.0),
+            max: DVec3::new(half_x + 1.0, f64::INFINITY, half_z + 1.0),
+        }
+    }
+
+    pub fn holds(&self, p: DVec3) -> bool {
+        p.is_finite() && p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+}
+
+impl Bin {
+    /// The region of `holds` (without the upper bound: bodies start above the walls).
+    fn region(&self) -> Region {
+        const TOLERANCE: f64 = 0.05;
+        let inside = self.half_width + TOLERANCE;
+        Region {
+            min: DVec3::new(-inside, -TOLERANCE, -inside),
+            max: DVec3::new(inside, f64::INFINITY, inside),
+        }
+    }
+}
+
+/// What a stress scene is measured by, besides the figures all of them get (deepest
+/// overlap, bodies lost, bodies awake).
+#[derive(Clone, Copy, Debug)]
+pub enum StressKind {
+    /// A stack that should stand still: drift (the largest distance any box moved from its
+    /// start), and, when given, the sideways (x, z) displacement of the apex body.
+    Stack { apex: Option<usize> },
+    /// A pile or rain with no answer to compare against: overlap, lost and awake only.
+    Pile,
+    /// A wall hit by a ball (body `ball`): how many boxes moved more than 0.5 m.
+    Smash { ball: usize },
+}
+
+/// A stress scene: its description, where its bodies must stay, what it is measured by, and
+/// the name of the same scene in Box3D's benchmark program, if it is one of its.
+#[derive(Clone, Debug)]
+pub struct Stress {
+    pub name: &'static str,
+    /// Says what it is, for the table.
+    pub title: String,
+    pub scene: SceneDesc,
+    pub region: Region,
+    pub kind: StressKind,
+    pub box3d: Option<&'static str>,
+    /// Timed runs of each engine when not told otherwise.
+    pub repeats: usize,
+}
+
+/// The stress scenes, by name, in the order the report lists them.
+pub const STRESS: &[&str] = &[
+    "pyramid20",
+    "large_pyramid",
+    "many_pyramids",
+    "convex_pile",
+    "hull_rain",
+    "wall_smash",
+];
+
+pub fn stress(name: &str) -> Option<Stress> {
+    Some(match name {
+        "pyramid20" => pyramid20(),
+        "large_pyramid" => large_pyramid(),
+        "many_pyramids" => many_pyramids(),
+        "convex_pile" => convex_pile(),
+        "hull_rain" => hull_rain(800),
+        "wall_smash" => wall_smash(),
+        _ => return None,
+    })
+}
+
+/// The index of the body that starts highest (the apex of a single pyramid).
+fn highest(bodies: &[BodyDesc]) -> usize {
+    (0..bodies.len())
+        .max_by(|&a, &b| bodies[a].position.y.total_cmp(&bodies[b].position.y))
+        .expect("a scene has bodies")
+}
+
+/// `pyramid` (20 layers, 210 boxes, 5 cm gaps, on its 40 × 10 m floor) with sleeping off, so
+/// that every box is solved in every step of the 10 s.
+fn pyramid20() -> Stress {
+    let scene = SceneDesc {
+        sleeping: false,
+        ..pyramid()
+    };
+    let apex = highest(&scene.bodies);
+    Stress {
+        name: "pyramid20",
+        title: "pyramid20: 20 layers, 210 boxes, gaps 5 cm".to_owned(),
+        region: Region::above_floor(20.0, 5.0),
+        kind: StressKind::Stack { apex: Some(apex) },
+        box3d: None,
+        scene,
+        // A run takes a tenth of a second: see `PYRAMID_REPEATS` in main.rs.
+        repeats: 31,
+    }
+}
+
+/// Box3D's material for its benchmark boxes: its default friction and restitution, density
+/// 100 (its pyramids set it; `convex_pile` keeps the default 1000).
+const BOX3D_BOX: MaterialDesc = MaterialDesc {
+    density: 100.0,
+    restitution: 0.0,
+    friction: 0.6,
+};
+
+/// Box3D's ground: a box of half extents `half` × 1 × `half` at y = -1 (top at y = 0).
+fn box3d_ground(half: f64, material: MaterialDesc) -> BodyDesc {
+    BodyDesc::fixed(
+        ShapeDesc::Cuboid {
+            half_extents: DVec3::new(half, 1.0, half),
+        },
+        material,
+        DVec3::new(0.0, -1.0, 0.0),
+    )
+}
+
+/// One of Box3D's pyramids (`CreateLargePyramid`, `CreateSmallPyramid`): `base` cubes of half
+/// extent `h` along x on the bottom row, one fewer each row up, every box touching its
+/// neighbours and the row below (no gaps), in the plane z = `z`. Row i has its centres at
+/// y = (2i + 1)h, x = (i + 1)h + 2(j − i)h + `x0` for j = i..base.
+fn box3d_pyramid(bodies: &mut Vec<BodyDesc>, base: usize, h: f64, x0: f64, z: f64) {
+    for i in 0..base {
+        let y = (2.0 * i as f64 + 1.0) * h;
+        for j in i..base {
+            let x = (i as f64 + 1.0) * h + 2.0 * (j - i) as f64 * h + x0;
+            bodies.push(BodyDesc::dynamic(
+                ShapeDesc::Cuboid {
+                    half_extents: DVec3::splat(h),
+                },
+                BOX3D_BOX,
+                DVec3::new(x, y, z),
+            ));
+        }
+    }
+}
+
+/// Box3D's `large_pyramid`: a pyramid of base 100 (5050 unit cubes, density 100, touching)
+/// on a 800 × 800 m ground, sleeping off, 200 steps.
+fn large_pyramid() -> Stress {
+    const BASE: usize = 100;
+    const H: f64 = 0.5;
+    let mut bodies = vec![box3d_ground(400.0, BOX3D_BOX)];
+    box3d_pyramid(&mut bodies, BASE, H, -H * BASE as f64, 0.0);
+    let apex = highest(&bodies);
+    Stress {
+        name: "large_pyramid",
+        title: format!(
+            "large_pyramid (Box3D): base {BASE}, {} boxes",
+            bodies.len() - 1
+        ),
+        scene: SceneDesc {
+            bodies,
+            hulls: Vec::new(),
+            steps: 200,
+            sleeping: false,
+        },
+        region: Region::above_floor(400.0, 400.0),
+        kind: StressKind::Stack { apex: Some(apex) },
+        box3d: Some("large_pyramid"),
+        repeats: 3,
+    }
+}
+
+/// Box3D's `many_pyramids`: 14 rows × 14 columns of pyramids of base 10 (55 unit cubes
+/// each, 10 780 in all, density 100), sleeping off, 100 steps. As `CreateManyPyramids`: the
+/// ground's half extent is 0.5 · 14 · 11 = 77 m; pyramid (row r, column c) has its bottom
+/// row from x = −77 + 11c + 1 − 0.5 and lies in the plane z = −76 + r · 152/13.
+fn many_pyramids() -> Stress {
+    const BASE: usize = 10;
+    const EXTENT: f64 = 0.5;
+    const ROWS: usize = 14;
+    const COLUMNS: usize = 14;
+    let ground = EXTENT * COLUMNS as f64 * (BASE as f64 + 1.0);
+    let mut bodies = vec![box3d_ground(ground, BOX3D_BOX)];
+    let base_width = 2.0 * EXTENT * BASE as f64;
+    let delta_z = 2.0 * (ground - 2.0 * EXTENT) / (ROWS as f64 - 1.0);
+    for row in 0..ROWS {
+        let z = -ground + 2.0 * EXTENT + row as f64 * delta_z;
+        for column in 0..COLUMNS {
+            let center_x = -ground + column as f64 * (base_width + 2.0 * EXTENT) + 2.0 * EXTENT;
+            box3d_pyramid(&mut bodies, BASE, EXTENT, center_x - 0.5, z);
+        }
+    }
+    Stress {
+        name: "many_pyramids",
+        title: format!(
+            "many_pyramids (Box3D): {ROWS} × {COLUMNS} pyramids of base {BASE}, {} boxes",
+            bodies.len() - 1
+        ),
+        scene: SceneDesc {
+            bodies,
+            hulls: Vec::new(),
+            steps: 100,
+            sleeping: false,
+        },
+        region: Region::above_floor(ground, ground),
+        kind: StressKind::Stack { apex: None },
+        box3d: Some("many_pyramids"),
+        repeats: 3,
+    }
+}
+
+/// PEEL's `BasicRandom`, as Box3D's `convex_pile` uses it (a 32-bit linear congruential
+/// generator), so that the same seed gives the same points as there.
+struct PeelRandom {
+    state: u32,
+}
+
+impl PeelRandom {
+    fn next(&mut self) -> u32 {
+        self.state = self
+            .state
+            .wrapping_mul(2_147_001_325)
+            .wrapping_add(715_136_305);
+        self.state
+    }
+
+    /// In [-0.5, 0.5], in f32 as the original computes it.
+    fn float(&mut self) -> f32 {
+        (self.next() & 0xffff) as f32 / 65535.0 - 0.5
+    }
+
+    /// A uniformly random unit vector: rejection sampled in the ball of radius 0.5 (in f32,
+    /// so the accepted points are the original's), then normalized (in f64).
+    fn unit(&mut self) -> DVec3 {
+        loop {
+            let (x, y, z) = (self.float(), self.float(), self.float());
+            if x * x + y * y + z * z <= 0.25 {
+                return DVec3::new(x.into(), y.into(), z.into()).normalize();
+            }
+        }
+    }
+}
+
+/// `points` moved so that the centre of mass of their hull (our hull code's: its exact
+/// polyhedral integral) is the origin, and that centre of mass in the points' own frame: a
+/// body placed at its old origin + centre has its hull exactly where the old points were.
+/// Panics if the points span no volume.
+fn centred(points: Vec<DVec3>) -> (Vec<DVec3>, DVec3) {
+    let hull = rigid::physics::ConvexHull::from_points(&points).expect("hull points span a volume");
+    let center = hull.mass_properties(1.0).center;
+    (points.into_iter().map(|p| p - center).collect(), center)
+}
+
+/// Box3D's `convex_pile` (ported there from PEEL): one hull of 32 random points on a sphere
+/// of radius 2 (PEEL's generator, seed 42), on 5120 bodies in 80 layers of 8 × 8 columns
+/// 4 m apart (the hull's bounding sphere has diameter 4: bottom layer on the ground, and
+/// neighbours at most touching), default density 1000 and friction 0.6, sleeping on as
+/// there, 500 steps. The cloud is centred on its hull's centre of mass (see
+/// `SceneDesc::hulls`) and each body placed that much further on, so the hulls lie exactly
+/// where Box3D puts them.
+fn convex_pile() -> Stress {
+    const COUNT_X: usize = 8;
+    const COUNT_Z: usize = 8;
+    const LAYERS: usize = 80;
+    const AMPLITUDE: f64 = 2.0;
+    const POINTS: usize = 32;
+    const SCATTER: f64 = 2.0 * AMPLITUDE;
+    let material = MaterialDesc {
+        density: 1000.0,
+        ..BOX3D_BOX
+    };
+    let mut random = PeelRandom { state: 42 };
+    let (points, center) = centred((0..POINTS).map(|_| AMPLITUDE * random.unit()).collect());
+    let mut bodies = vec![box3d_ground(250.0, material)];
+    for layer in 0..LAYERS {
+        for z in 0..COUNT_Z {
+            for x in 0..COUNT_X {
+                let origin = DVec3::new(
+                    (x as f64 - 0.5 * COUNT_X as f64) * SCATTER,
+                    AMPLITUDE + 2.0 * AMPLITUDE * layer as f64,
+                    (z as f64 - 0.5 * COUNT_Z as f64) * SCATTER,
+                );
+                bodies.push(BodyDesc::dynamic(
+                    ShapeDesc::Hull { hull: 0 },
+                    material,
+                    origin + center,
+                ));
+            }
+        }
+    }
+    Stress {
+        name: "convex_pile",
+        title: format!(
+            "convex_pile (Box3D): {} hulls of {POINTS} points on a sphere r = {AMPLITUDE} m",
+            bodies.len() - 1
+        ),
+        scene: SceneDesc {
+            bodies,
+            hulls: vec![points],
+            steps: 500,
+            sleeping: true,
+        },
+        region: Region::above_floor(250.0, 250.0),
+        kind: StressKind::Pile,
+        box3d: Some("convex_pile"),
+        repeats: 3,
+    }
+}
+
+/// A rain of `count` hulls into the bin of `rain(count)`, from its drop grid, for 5 s,
+/// sleeping on: each its own hull of 10 random points (PEEL's generator, seed 7) on an
+/// ellipsoid of semi-axes drawn from [0.1, 0.2] m, so that every body reaches at most 0.2 m
+/// from its centre as the grid needs. Materials take turns as the rain's do (rubber, wood,
+/// plastic, wood).
+fn hull_rain(count: usize) -> Stress {
+    const POINTS: usize = 10;
+    let (mut bodies, bin, drops) = rain_layout(count);
+    let mut random = PeelRandom { state: 7 };
+    let mut hulls = Vec::with_capacity(count);
+    for (i, position) in drops.into_iter().enumerate() {
+        let axes = DVec3::new(
+            0.15 + 0.1 * f64::from(random.float()),
+            0.15 + 0.1 * f64::from(random.float()),
+            0.15 + 0.1 * f64::from(random.float()),
+        );
+        let (points, center) = centred((0..POINTS).map(|_| axes * random.unit()).collect());
+        hulls.push(points);
+        let material = [RUBBER, WOOD, PLASTIC, WOOD][i % 4];
+        bodies.push(BodyDesc::dynamic(
+            ShapeDesc::Hull { hull: i },
+            material,
+            position + center,
+        ));
+    }
+    Stress {
+        name: "hull_rain",
+        title: format!(
+            "hull_rain: {count} hulls of {POINTS} points, bin {w:.0} × {w:.0} × {h:.2} m",
+            w = 2.0 * bin.half_width,
+            h = bin.wall_height
+        ),
+        scene: SceneDesc {
+            bodies,
+            hulls,
+            steps: steps_for(5.0),
+            sleeping: true,
+        },
+        region: bin.region(),
+        kind: StressKind::Pile,
+        box3d: None,
+        repeats: 5,
+    }
+}
+
+/// A wall of 20 × 10 wooden cubes (0.5 m, density 500, touching, no gaps) standing on the
+/// floor across x in the plane z = 0, hit by a steel ball (r = 0.5 m, density 7800: 15.6
+/// times the boxes', 4084 kg against 62.5 kg a box) launched along +z at 8 m/s from 3 m in
+/// front of the wall, its centre 2 m up; it reaches the wall at about 0.3 s, about 1.6 m up
+/// (the fourth row). Sleeping on, 3 s.
+fn wall_smash() -> Stress {
+    const WIDE: usize = 20;
+    const HIGH: usize = 10;
+    const H: f64 = 0.25;
+    let wood = MaterialDesc {
+        density: 500.0,
+        restitution: 0.0,
+        friction: 0.6,
+    };
+    let steel = MaterialDesc {
+        density: 7800.0,
+        restitution: 0.2,
+        friction: 0.4,
+    };
+    let mut bodies = vec![floor(wood)];
+    for row in 0..HIGH {
+        for column in 0..WIDE {
+            bodies.push(BodyDesc::dynamic(
+                ShapeDesc::Cuboid {
+                    half_extents: DVec3::splat(H),
+                },
+                wood,
+                DVec3::new(
+                    (column as f64 - (WIDE as f64 - 1.0) / 2.0) * 2.0 * H,
+                    (2.0 * row as f64 + 1.0) * H,
+                    0.0,
+                ),
+            ));
+        }
+    }
+    let ball = bodies.len();
+    bodies.push(BodyDesc {
+        velocity: DVec3::new(0.0, 0.0, 8.0),
+        ..BodyDesc::dynamic(
+            ShapeDesc::Sphere { radius: 0.5 },
+            steel,
+            DVec3::new(0.0, 2.0, -3.0),
+        )
+    });
+    Stress {
+        name: "wall_smash",
+        title: format!("wall_smash: {WIDE} × {HIGH} boxes of 0.5 m, steel ball r 0.5 m at 8 m/s"),
+        scene: SceneDesc {
+            bodies,
+            hulls: Vec::new(),
+            steps: steps_for(3.0),
+            sleeping: true,
+        },
+        region: Region::above_floor(50.0, 50.0),
+        kind: StressKind::Smash { ball },
+        box3d: None,
+        repeats: 11,
     }
 }

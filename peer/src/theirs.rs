@@ -1,6 +1,8 @@
 //! rapier3d (the `rapier3d-f64` crate: f64 throughout, like ours) built from the same scene
 //! description, at its default `IntegrationParameters` apart from dt (and, for the sweep of
-//! work against error, the number of solver iterations).
+//! work against error, the number of solver iterations). Where the scene has sleeping off,
+//! every body is built with `can_sleep(false)`. Hulls are rapier's own convex hull of the
+//! scene's points (`SharedShape::convex_hull`), built once per cloud and shared.
 //!
 //! rapier's math is glam 0.33 (through `glamx`) and ours is glam 0.34: vectors cross over
 //! component by component.
@@ -9,7 +11,7 @@ use glam::{DMat3, DQuat, DVec3};
 use rapier3d_f64::math::{Pose, Rotation, Vector};
 use rapier3d_f64::prelude::{
     CoefficientCombineRule, ColliderBuilder, IntegrationParameters, PhysicsWorld, RigidBodyBuilder,
-    RigidBodyHandle,
+    RigidBodyHandle, SharedShape,
 };
 
 use crate::Engine;
@@ -52,12 +54,22 @@ fn rotation_to_rapier(q: DQuat) -> Rotation {
 }
 
 impl Engine for Theirs {
+    const NAME: &'static str = "rapier";
+
     fn build(scene: &SceneDesc, iterations: Option<u32>) -> Self {
         let mut world = PhysicsWorld {
             gravity: Vector::new(0.0, -scenes::GRAVITY, 0.0),
             integration_parameters: parameters(iterations),
             ..PhysicsWorld::default()
         };
+        let hulls: Vec<SharedShape> = scene
+            .hulls
+            .iter()
+            .map(|points| {
+                let points: Vec<Vector> = points.iter().map(|&p| to_rapier(p)).collect();
+                SharedShape::convex_hull(&points).expect("scene hulls span a volume")
+            })
+            .collect();
         let handles = scene
             .bodies
             .iter()
@@ -65,7 +77,7 @@ impl Engine for Theirs {
                 let body = if b.fixed {
                     RigidBodyBuilder::fixed()
                 } else {
-                    RigidBodyBuilder::dynamic()
+                    RigidBodyBuilder::dynamic().can_sleep(scene.sleeping)
                 };
                 let pose = Pose::from_parts(to_rapier(b.position), rotation_to_rapier(b.rotation));
                 let body = body.pose(pose).linvel(to_rapier(b.velocity));
@@ -80,6 +92,7 @@ impl Engine for Theirs {
                         half_height,
                         radius,
                     } => ColliderBuilder::cylinder(half_height, radius),
+                    ShapeDesc::Hull { hull } => ColliderBuilder::new(hulls[hull].clone()),
                 };
                 // The body's mass and inertia come from the collider's density, as ours do.
                 let collider = collider
@@ -100,7 +113,7 @@ impl Engine for Theirs {
 
     fn position(&self, i: usize) -> DVec3 {
         // The centre of mass, as ours reports (the same point as the body origin for these
-        // symmetric shapes).
+        // symmetric shapes and the scenes' hulls, centred on theirs).
         from_rapier(self.world.bodies[self.handles[i]].center_of_mass())
     }
 
