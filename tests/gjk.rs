@@ -73,8 +73,17 @@ impl Spec {
         ((hull.vertices, triangles, edges), 0.0)
     }
 
+    /// The scale of the tolerances below: the bounding radius of a primitive, and for a hull
+    /// the radius through the farthest corner of its local bounds (the hull's bounding
+    /// radius was that, up to √3 times its farthest vertex, when these tolerances were set).
     fn size(&self) -> f64 {
-        self.shape().bounding_radius()
+        match self.shape() {
+            Shape::ConvexHull(hull) => {
+                let (min, max) = hull.bounds();
+                min.abs().max(max.abs()).length()
+            }
+            shape => shape.bounding_radius(),
+        }
     }
 }
 
