@@ -149,6 +149,10 @@ struct Polyhedron<'a> {
     /// hull whose loops do not close), and such an edge is left to the face axes.
     edge_faces: &'a [Option<[usize; 2]>],
     centroid: DVec3,
+    /// The radius of a ball about `centroid` that lies inside the polyhedron: the nearest
+    /// face plane's distance. Along any direction the polyhedron reaches at least this far
+    /// beyond its centroid, which sharpens the bounds of the separating-axis search.
+    inner_radius: f64,
     /// A box's frame, for the closed forms of `best_face_axis` and `best_edge_axis`.
     box_frame: Option<BoxFrame>,
 }
@@ -262,6 +266,7 @@ impl<'a> Polyhedron<'a> {
             edges: BOX_EDGES.as_slice(),
             edge_faces: BOX_EDGE_FACES.as_slice(),
             centroid: centroid(&vertices),
+            inner_radius: half_extents.min_element(),
             box_frame: Some(BoxFrame {
                 center: posed.origin,
                 axes: [0, 1, 2].map(|k| posed.rotation.col(k)),
@@ -274,15 +279,20 @@ impl<'a> Polyhedron<'a> {
     fn of_hull(posed: &PosedShape<'a>, hull: &'a ConvexHull) -> Polyhedron<'a> {
         let vertices: SmallVec<[DVec3; 8]> =
             hull.vertices.iter().map(|&p| posed.to_world(p)).collect();
+        let faces: SmallVec<[Polygon<'a>; 6]> = (hull.faces.iter())
+            .map(|f| face_of(posed, &f.vertices, f.normal, &vertices))
+            .collect();
+        let centroid = centroid(&vertices);
+        let inner_radius = (faces.iter())
+            .map(|f| f.offset - f.normal.dot(centroid))
+            .fold(f64::INFINITY, f64::min)
+            .max(0.0);
         Polyhedron {
-            faces: hull
-                .faces
-                .iter()
-                .map(|f| face_of(posed, &f.vertices, f.normal, &vertices))
-                .collect(),
+            faces,
             edges: hull.edges.as_slice(),
             edge_faces: hull.edge_faces(),
-            centroid: centroid(&vertices),
+            centroid,
+            inner_radius,
             box_frame: None,
             vertices,
         }
@@ -418,15 +428,15 @@ const BOUND_ROUND_OFF: f64 = 1e-9;
 /// The face of `owner` along whose normal `other` is farthest out (largest separation;
 /// of equal ones the last).
 ///
-/// Along a face's normal, `other`'s nearest vertex is no farther out than its centroid (an
-/// average of its vertices), so a face whose centroid lies below the best separation so far
-/// (by more than `slack`, round-off) cannot win, and its vertices are not visited. The face
-/// with the centroid farthest out is measured first, so that the bar is high from the start.
+/// Along a face's normal, `other`'s nearest vertex is at least its inner radius nearer than
+/// its centroid, so a face whose bound from the centroid lies below the best separation so
+/// far (by more than `slack`, round-off) cannot win, and its vertices are not visited. The
+/// face with the highest bound is measured first, so that the bar is high from the start.
 fn best_face_axis(owner: &Polyhedron, other: &Polyhedron, of_a: bool, slack: f64) -> Axis {
     if let (Some(owner_box), Some(other_box)) = (owner.box_frame, other.box_frame) {
         return best_box_face_axis(&owner_box, &other_box, of_a);
     }
-    let bound = |f: &Polygon| f.normal.dot(other.centroid) - f.offset;
+    let bound = |f: &Polygon| f.normal.dot(other.centroid) - other.inner_radius - f.offset;
     let separation = |f: &Polygon| -other.support_value(-f.normal) - f.offset;
     let first = (0..owner.faces.len())
         .map(|k| (k, bound(&owner.faces[k])))
@@ -483,7 +493,7 @@ fn best_box_face_axis(owner: &BoxFrame, other: &BoxFrame, of_a: bool) -> Axis {
 /// Minkowski difference). That keeps the test O(edges²) instead of O(edges² · vertices).
 ///
 /// Pairs that are surely no farther apart than `floor` may be left out (the box shortcut
-/// does, and so does the bound of `arc_reach` on whole edges), so only a result above
+/// does, and so does the bound of `arc_reaches` on whole edges), so only a result above
 /// `floor` is sure to be the best pair.
 fn best_edge_axis(a: &Polyhedron, b: &Polyhedron, floor: f64, slack: f64) -> Option<Axis> {
     if let (Some(frame_a), Some(frame_b)) = (a.box_frame, b.box_frame) {
@@ -494,8 +504,8 @@ fn best_edge_axis(a: &Polyhedron, b: &Polyhedron, floor: f64, slack: f64) -> Opt
             let [f0, f1] = b.edge_faces[j]?;
             let arc = [-b.faces[f0].normal, -b.faces[f1].normal];
             let point = b.vertices[b.edges[j][0] as usize];
-            let reach = arc_reach(arc, point - a.centroid);
-            (reach + slack >= floor).then_some((j, arc))
+            let level = floor + a.inner_radius - slack;
+            arc_reaches(arc, point - a.centroid, level).then(|| (j, GaussArc::new(arc[0], arc[1])))
         })
         .collect();
     let mut best: Option<Axis> = None;
@@ -505,12 +515,14 @@ fn best_edge_axis(a: &Polyhedron, b: &Polyhedron, floor: f64, slack: f64) -> Opt
         };
         let (na, nb) = (a.faces[f0].normal, a.faces[f1].normal);
         let point = a.vertices[a.edges[i][0] as usize];
-        if arc_reach([na, nb], b.centroid - point) + slack < floor {
+        let level = floor + b.inner_radius - slack;
+        if !arc_reaches([na, nb], b.centroid - point, level) {
             continue;
         }
-        for &(j, [nc, nd]) in &edges_b {
-            if arcs_cross(na, nb, nc, nd) {
-                keep_better_edge_axis(&mut best, a, i, b, j);
+        let arc_a = GaussArc::new(na, nb);
+        for (j, arc_b) in &edges_b {
+            if arcs_cross(&arc_a, arc_b) {
+                keep_better_edge_axis(&mut best, a, i, b, *j);
             }
         }
     }
@@ -519,31 +531,37 @@ fn best_edge_axis(a: &Polyhedron, b: &Polyhedron, floor: f64, slack: f64) -> Opt
 
 /// The edges of a polyhedron left in the search, with the arcs of their Gauss map
 /// (negated for B): inline up to what a hull of some thirty points keeps.
-type EdgeArcs = SmallVec<[(usize, [DVec3; 2]); 64]>;
+type EdgeArcs = SmallVec<[(usize, GaussArc); 64]>;
 
-/// The most `n · offset` reaches over the unit normals n on the great arc between `arc`'s
-/// ends (shorter than a half circle).
+/// Whether some unit normal n on the great arc between `arc`'s ends (shorter than a half
+/// circle) has n · offset ≥ `level`.
 ///
 /// For an edge of A with its arc, and any axis n on it, A reaches out along n exactly to
-/// the edge, while B's nearest vertex lies no farther out than its centroid: so this
-/// reach, with `offset` from the edge to B's centroid, bounds the separation of every pair
-/// that edge can make (for an edge of B, its negated arc and the offset from A's centroid
-/// to it, likewise). An edge whose bound is below the best separation so far is left out.
-fn arc_reach([p, q]: [DVec3; 2], offset: DVec3) -> f64 {
+/// the edge, while B's nearest vertex lies at least B's inner radius nearer than its
+/// centroid: so with `offset` from the edge to B's centroid and `level` the floor plus that
+/// radius, an edge whose arc does not reach the level makes no pair above the floor, and is
+/// left out (for an edge of B, its negated arc and the offset from A's centroid to it,
+/// likewise).
+fn arc_reaches([p, q]: [DVec3; 2], offset: DVec3, level: f64) -> bool {
     let ends = p.dot(offset).max(q.dot(offset));
+    if ends >= level {
+        return true;
+    }
+    if ends <= 0.0 {
+        // n = (a p + b q) / |a p + b q| with a, b ≥ 0, and |a p + b q| ≤ a + b: the
+        // weighted mean of two values at most `ends` ≤ 0, divided by at most its weight,
+        // stays at most `ends`. Most edges face away from the other shape and stop here.
+        return false;
+    }
     let plane = p.cross(q);
     let square = plane.length_squared();
     if square == 0.0 {
-        return offset.length();
+        return offset.length() >= level;
     }
     // The offset's part in the arc's plane points where n · offset peaks on the circle.
     let peak = offset - plane * (offset.dot(plane) / square);
     let within = p.cross(peak).dot(plane) >= 0.0 && peak.cross(q).dot(plane) >= 0.0;
-    if within {
-        peak.length().max(ends)
-    } else {
-        ends
-    }
+    within && peak.length() >= level
 }
 
 /// `best_edge_axis` for two boxes. A box has 12 edges but only 3 directions, and for each
@@ -661,11 +679,30 @@ fn keep_better_edge_axis(
     }
 }
 
-/// True when the great arc from `a` to `b` crosses the arc from `c` to `d` on the unit sphere
-/// (each arc shorter than a half circle, as the normals at a convex edge are).
-fn arcs_cross(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
-    let b_x_a = b.cross(a);
-    let d_x_c = d.cross(c);
+/// An arc of the Gauss map, from `start` to `end`, with the normal of its plane
+/// (`end × start`), taken once per edge rather than once per pair of edges.
+#[derive(Clone, Copy)]
+struct GaussArc {
+    start: DVec3,
+    end: DVec3,
+    plane: DVec3,
+}
+
+impl GaussArc {
+    fn new(start: DVec3, end: DVec3) -> GaussArc {
+        GaussArc {
+            start,
+            end,
+            plane: end.cross(start),
+        }
+    }
+}
+
+/// True when the great arc `first` crosses the arc `second` on the unit sphere (each arc
+/// shorter than a half circle, as the normals at a convex edge are).
+fn arcs_cross(first: &GaussArc, second: &GaussArc) -> bool {
+    let (a, b, b_x_a) = (first.start, first.end, first.plane);
+    let (c, d, d_x_c) = (second.start, second.end, second.plane);
     let (cba, dba) = (c.dot(b_x_a), d.dot(b_x_a));
     let (adc, bdc) = (a.dot(d_x_c), b.dot(d_x_c));
     // c and d on opposite sides of a–b's plane, a and b on opposite sides of c–d's, and
