@@ -434,3 +434,32 @@ fn stage_times_split_integration_from_the_contact_solve() {
     world.step(0.01);
     assert_eq!(world.stage_times().integrate, 0.0);
 }
+
+/// A body whose mass cannot be inverted, or whose momentum overflows, is refused by the
+/// world with an error naming the field, as the scene loader refuses it: a sphere of 1 mm at
+/// 1e-320 kg/m³ weighs 4e-329 kg, below f64 (it rounds to 0) and without a finite inverse, and 1e300 m/s on a
+/// body of 1e10 kg/m³ is a momentum beyond f64.
+#[test]
+fn the_world_refuses_a_mass_it_cannot_invert_or_a_momentum_that_overflows() {
+    use rigid::physics::{AddBodyError, BodyError};
+    let mut world = World::default();
+    let mut dust = BodyDesc::dynamic(Shape::sphere(1e-3));
+    dust.material.density = 1e-320;
+    match world.add_body(dust).unwrap_err() {
+        AddBodyError::Invalid(BodyError::MassNotInvertible { field, mass, .. }) => {
+            assert_eq!(field, "material.density");
+            assert!((1.0 / mass).is_infinite(), "{mass}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let mut bullet = BodyDesc::dynamic(Shape::sphere(1.0)).with_velocity(DVec3::X * 1e300);
+    bullet.material.density = 1e10;
+    match world.add_body(bullet).unwrap_err() {
+        AddBodyError::Invalid(BodyError::NotFinite { field, .. }) => assert_eq!(field, "velocity"),
+        other => panic!("{other:?}"),
+    }
+    assert!(world.bodies().is_empty());
+    // The same sphere at a plain density and speed is accepted.
+    let ball = BodyDesc::dynamic(Shape::sphere(1e-3)).with_velocity(DVec3::X * 1e3);
+    assert!(world.add_body(ball).is_ok());
+}

@@ -138,22 +138,10 @@ impl Scene {
     }
 }
 
-/// What only the engine can tell: the engine's own checks, and whether the mass, inertia and
-/// momenta it derives stay finite (a tiny density or a huge speed can overflow them).
+/// What only the engine can tell: its own checks, which include whether the mass, inertia
+/// and momenta it derives stay finite (a tiny density or a huge speed can overflow them).
 fn check_engine_body(desc: &BodyDesc) -> Result<(), FieldError> {
-    let body = RigidBody::from_desc(desc).map_err(field_of)?;
-    if !body.inv_mass.is_finite() || !body.inv_inertia_local.is_finite() || !body.is_finite() {
-        let field = if desc.mass.is_some() {
-            "mass"
-        } else {
-            "material.density"
-        };
-        return Err(FieldError::new(
-            field,
-            "gives a mass, inertia or momentum that is not a finite number",
-        ));
-    }
-    Ok(())
+    RigidBody::from_desc(desc).map(|_| ()).map_err(field_of)
 }
 
 /// The template's copies, named `name_0`, `name_1`, … when a generator made them.
@@ -198,6 +186,10 @@ fn field_of(error: BodyError) -> FieldError {
             max,
             ..
         } => FieldError::new(field, format!("must lie in [{min}, {max}], got {value}")),
+        BodyError::MassNotInvertible { field, mass, .. } => FieldError::new(
+            field,
+            format!("gives a mass of {mass} kg, too small or too large to simulate"),
+        ),
     }
 }
 
@@ -208,7 +200,8 @@ fn body_error(file: &str, error: BodyError) -> SceneError {
         BodyError::Shape { body, .. }
         | BodyError::NotFinite { body, .. }
         | BodyError::NotPositive { body, .. }
-        | BodyError::OutOfRange { body, .. } => format!("'{body}'"),
+        | BodyError::OutOfRange { body, .. }
+        | BodyError::MassNotInvertible { body, .. } => format!("'{body}'"),
     };
     field_of(error).in_body(file, &body)
 }

@@ -21,6 +21,7 @@ use smallvec::SmallVec;
 use crate::physics::collision::contact::{
     Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS, ManifoldPoints,
 };
+use crate::physics::collision::separating_axis::SeparatingFeature;
 use crate::physics::dynamics::body::{BodyId, RigidBody};
 use crate::physics::geometry::epa::signed_distance_within;
 use crate::physics::geometry::gjk::{PosedShape, SupportMap};
@@ -38,48 +39,76 @@ pub fn contact_manifold(
     margin: f64,
 ) -> Option<ContactManifold> {
     let mut manifolds = Vec::with_capacity(1);
-    push_contact_manifold((a, id_a), (b, id_b), margin, &mut manifolds);
+    push_contact_manifold((a, id_a), (b, id_b), margin, None, &mut manifolds);
     manifolds.pop()
 }
 
-/// `contact_manifold` pushed onto `manifolds` when there is one (true; see
-/// `ContactManifold::push_built`).
-pub fn push_contact_manifold(
+/// What the search found of a pair besides its contacts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PairOutcome {
+    /// A manifold was pushed.
+    Touching,
+    /// None was: the pair is farther apart than the margin, along this axis when a
+    /// separating axis showed it.
+    Apart(Option<SeparatingFeature>),
+}
+
+/// `contact_manifold` pushed onto `manifolds` when there is one (see
+/// `ContactManifold::push_built`). `hint`, the feature that last separated the pair, is
+/// tried before any search.
+pub(crate) fn push_contact_manifold(
     (a, id_a): (&RigidBody, BodyId),
     (b, id_b): (&RigidBody, BodyId),
     margin: f64,
+    hint: Option<SeparatingFeature>,
     manifolds: &mut Vec<ContactManifold>,
-) -> bool {
+) -> PairOutcome {
     let (a, b) = (PosedShape::of_body(a), PosedShape::of_body(b));
-    ContactManifold::push_built(manifolds, id_a, id_b, |points| {
-        add_manifold_points(&a, &b, margin, points)
-    })
+    let mut separating = None;
+    let pushed = ContactManifold::push_built(manifolds, id_a, id_b, |points| {
+        separating = add_manifold_points(&a, &b, margin, hint, points);
+    });
+    if pushed {
+        PairOutcome::Touching
+    } else {
+        PairOutcome::Apart(separating)
+    }
 }
 
 /// The contacts of two placed shapes (deepest first, at most `MAX_MANIFOLD_POINTS`).
 /// Compounds are split into their parts; their contacts may then carry different normals.
 pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Contact> {
     let mut points = ManifoldPoints::new();
-    add_manifold_points(a, b, margin, &mut points);
+    add_manifold_points(a, b, margin, None, &mut points);
     points.to_vec()
 }
 
-/// `generate_contacts`, added to `points`.
-fn add_manifold_points(a: &PosedShape, b: &PosedShape, margin: f64, points: &mut ManifoldPoints) {
+/// `generate_contacts`, added to `points`, trying `hint` first (see `push_contact_manifold`).
+/// Returns the feature whose axis separates two polyhedra farther than `margin`, when that
+/// is how they were found apart.
+pub(crate) fn add_manifold_points(
+    a: &PosedShape,
+    b: &PosedShape,
+    margin: f64,
+    hint: Option<SeparatingFeature>,
+    points: &mut ManifoldPoints,
+) -> Option<SeparatingFeature> {
     // Filled in place by the searches below: returned by value, the inline list was copied
     // at every return on the way up.
     let mut contacts = Contacts::new();
+    let mut separating = None;
     if let Some(parts) = a.compound_parts() {
         part_contacts(&parts, b, margin, true, &mut contacts);
     } else if let Some(parts) = b.compound_parts() {
         part_contacts(&parts, a, margin, false, &mut contacts);
     } else {
-        convex_contacts(a, b, margin, &mut contacts);
+        separating = convex_contacts(a, b, margin, hint, &mut contacts);
     }
     contacts.sort_by(|x, y| x.separation.total_cmp(&y.separation));
     reduce_by_area(&mut contacts);
     // Copied over as a slice: extending would move them one by one.
     points.extend_from_slice(&contacts);
+    separating
 }
 
 /// The contacts of one pair before they are reduced: held inline up to a box face clipped
@@ -99,9 +128,9 @@ fn part_contacts(
         let tag = ((k as u32 + 1) & 0xff) << 20;
         let mut found = ManifoldPoints::new();
         if parts_are_a {
-            add_manifold_points(part, other, margin, &mut found);
+            add_manifold_points(part, other, margin, None, &mut found);
         } else {
-            add_manifold_points(other, part, margin, &mut found);
+            add_manifold_points(other, part, margin, None, &mut found);
         }
         contacts.extend(found.into_iter().map(|mut c| {
             if parts_are_a {
@@ -114,24 +143,40 @@ fn part_contacts(
     }
 }
 
-fn convex_contacts(a: &PosedShape, b: &PosedShape, margin: f64, contacts: &mut Contacts) {
+/// Adds to `contacts` (empty on entry); returns the separating feature of two polyhedra
+/// found farther apart than `margin`.
+fn convex_contacts(
+    a: &PosedShape,
+    b: &PosedShape,
+    margin: f64,
+    hint: Option<SeparatingFeature>,
+    contacts: &mut Contacts,
+) -> Option<SeparatingFeature> {
     // Both are checked before either is built: a box against a cylinder builds nothing.
-    // The polyhedra are matched by reference where they are built: they are large, and
-    // moving them out of the pair would copy them.
-    if a.shape.is_polyhedral()
-        && b.shape.is_polyhedral()
-        && let (Some(pa), Some(pb)) = (&Polyhedron::of(a), &Polyhedron::of(b))
-    {
-        polyhedron_contacts(pa, pb, margin, contacts);
-        if contacts.is_empty() {
-            // Clipping can cut away a whole incident face when a face axis was preferred
-            // over a slightly better edge axis; the closest pair still makes one contact.
-            contacts.extend(closest_contact(a, b, margin));
+    if a.shape.is_polyhedral() && b.shape.is_polyhedral() {
+        if let Some(feature) = hint
+            && feature.still_separates(a, b, margin)
+        {
+            return Some(feature);
         }
-        return;
+        // The polyhedra are matched by reference where they are built: they are large,
+        // and moving them out of the pair would copy them.
+        if let (Some(pa), Some(pb)) = (&Polyhedron::of(a), &Polyhedron::of(b)) {
+            if let Some(axis) = polyhedron_contacts(pa, pb, margin, contacts) {
+                return Some(axis.feature());
+            }
+            if contacts.is_empty() {
+                // Clipping can cut away a whole incident face when a face axis was
+                // preferred over a slightly better edge axis; the closest pair still makes
+                // one contact.
+                contacts.extend(closest_contact(a, b, margin));
+            }
+            return None;
+        }
     }
     // Empty only when the closest pair is beyond the margin: no second search for it.
     round_contacts(a, b, margin, contacts);
+    None
 }
 
 // ---------------------------------------------------------------------------------------
@@ -153,6 +198,9 @@ struct Polyhedron<'a> {
     /// face plane's distance. Along any direction the polyhedron reaches at least this far
     /// beyond its centroid, which sharpens the bounds of the separating-axis search.
     inner_radius: f64,
+    /// How far a vertex of a face may lie off the face's plane, m (see
+    /// `ConvexHull::plane_spread`): 0 for a box, whose faces are exact.
+    plane_spread: f64,
     /// A box's frame, for the closed forms of `best_face_axis` and `best_edge_axis`.
     box_frame: Option<BoxFrame>,
 }
@@ -184,7 +232,7 @@ struct Polygon<'a> {
 }
 
 /// Vertex i of a box is at (±x, ±y, ±z) with bit 0, 1, 2 of i choosing the sign.
-const BOX_FACES: [([u32; 4], DVec3); 6] = [
+pub(crate) const BOX_FACES: [([u32; 4], DVec3); 6] = [
     ([0, 4, 6, 2], DVec3::NEG_X),
     ([1, 3, 7, 5], DVec3::X),
     ([0, 1, 5, 4], DVec3::NEG_Y),
@@ -192,7 +240,7 @@ const BOX_FACES: [([u32; 4], DVec3); 6] = [
     ([0, 2, 3, 1], DVec3::NEG_Z),
     ([4, 5, 7, 6], DVec3::Z),
 ];
-const BOX_EDGES: [[u32; 2]; 12] = [
+pub(crate) const BOX_EDGES: [[u32; 2]; 12] = [
     [0, 1],
     [2, 3],
     [4, 5],
@@ -267,6 +315,7 @@ impl<'a> Polyhedron<'a> {
             edge_faces: BOX_EDGE_FACES.as_slice(),
             centroid: centroid(&vertices),
             inner_radius: half_extents.min_element(),
+            plane_spread: 0.0,
             box_frame: Some(BoxFrame {
                 center: posed.origin,
                 axes: [0, 1, 2].map(|k| posed.rotation.col(k)),
@@ -293,6 +342,7 @@ impl<'a> Polyhedron<'a> {
             edge_faces: hull.edge_faces(),
             centroid,
             inner_radius,
+            plane_spread: hull.plane_spread(),
             box_frame: None,
             vertices,
         }
@@ -368,6 +418,18 @@ impl Axis {
             Axis::Face { separation, .. } | Axis::Edges { separation, .. } => separation,
         }
     }
+
+    fn feature(&self) -> SeparatingFeature {
+        match *self {
+            Axis::Face {
+                of_a: true, face, ..
+            } => SeparatingFeature::FaceOfA(face as u32),
+            Axis::Face { face, .. } => SeparatingFeature::FaceOfB(face as u32),
+            Axis::Edges { edge_a, edge_b, .. } => {
+                SeparatingFeature::Edges(edge_a as u32, edge_b as u32)
+            }
+        }
+    }
 }
 
 /// A face or edge axis must beat the previous best by this fraction of the smaller shape's
@@ -375,19 +437,25 @@ impl Axis {
 /// choice does not flicker between nearly equal axes from one step to the next.
 const AXIS_PREFERENCE: f64 = 1e-3;
 
-/// Adds to `contacts` (empty on entry).
-fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64, contacts: &mut Contacts) {
+/// Adds to `contacts` (empty on entry); returns the axis that separates the two farther
+/// than `margin`, if one does (and then adds nothing).
+fn polyhedron_contacts(
+    a: &Polyhedron,
+    b: &Polyhedron,
+    margin: f64,
+    contacts: &mut Contacts,
+) -> Option<Axis> {
     let (size_a, size_b) = (a.size(), b.size());
     let slop = AXIS_PREFERENCE * size_a.min(size_b);
     let reach = a.centroid.length() + size_a + b.centroid.length() + size_b;
     let bound_slack = BOUND_ROUND_OFF * reach;
     let face_a = best_face_axis(a, b, true, bound_slack);
     if face_a.separation() > margin {
-        return;
+        return Some(face_a);
     }
     let face_b = best_face_axis(b, a, false, bound_slack);
     if face_b.separation() > margin {
-        return;
+        return Some(face_b);
     }
     let mut best = if face_b.separation() > face_a.separation() + slop {
         face_b
@@ -398,7 +466,7 @@ fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64, contacts: &m
     let floor = margin.min(best.separation() + slop);
     if let Some(edges) = best_edge_axis(a, b, floor, bound_slack) {
         if edges.separation() > margin {
-            return;
+            return Some(edges);
         }
         if edges.separation() > best.separation() + slop {
             best = edges;
@@ -418,6 +486,7 @@ fn polyhedron_contacts(a: &Polyhedron, b: &Polyhedron, margin: f64, contacts: &m
             separation,
         } => contacts.push(edge_contact(a, edge_a, b, edge_b, axis, separation)),
     }
+    None
 }
 
 /// How far a bound on a separation, computed in f64, may fall below the separation as the
@@ -499,13 +568,19 @@ fn best_edge_axis(a: &Polyhedron, b: &Polyhedron, floor: f64, slack: f64) -> Opt
     if let (Some(frame_a), Some(frame_b)) = (a.box_frame, b.box_frame) {
         return best_box_edge_axis(a, &frame_a, b, &frame_b, floor);
     }
+    // The other's centroid above each face: an edge's arc reaches towards it no farther than
+    // the higher of its two faces (see `arc_reaches`), measured once per face.
+    let heights_a = centroid_heights(a, b, slack);
+    let heights_b = centroid_heights(b, a, slack);
     let edges_b: EdgeArcs = (0..b.edges.len())
         .filter_map(|j| {
             let [f0, f1] = b.edge_faces[j]?;
             let arc = [-b.faces[f0].normal, -b.faces[f1].normal];
             let point = b.vertices[b.edges[j][0] as usize];
             let level = floor + a.inner_radius - slack;
-            arc_reaches(arc, point - a.centroid, level).then(|| (j, GaussArc::new(arc[0], arc[1])))
+            let ends = heights_b[f0].max(heights_b[f1]);
+            let reaches = arc_reaches(arc, point - a.centroid, level, ends);
+            reaches.then(|| (j, GaussArc::new(arc[0], arc[1])))
         })
         .collect();
     let mut best: Option<Axis> = None;
@@ -513,10 +588,14 @@ fn best_edge_axis(a: &Polyhedron, b: &Polyhedron, floor: f64, slack: f64) -> Opt
         let Some([f0, f1]) = a.edge_faces[i] else {
             continue;
         };
+        let ends = heights_a[f0].max(heights_a[f1]);
+        let level = floor + b.inner_radius - slack;
+        if ends <= 0.0 && ends < level {
+            continue; // as `arc_reaches` would find, without reading the edge
+        }
         let (na, nb) = (a.faces[f0].normal, a.faces[f1].normal);
         let point = a.vertices[a.edges[i][0] as usize];
-        let level = floor + b.inner_radius - slack;
-        if !arc_reaches([na, nb], b.centroid - point, level) {
+        if !arc_reaches([na, nb], b.centroid - point, level, ends) {
             continue;
         }
         let arc_a = GaussArc::new(na, nb);
@@ -533,8 +612,23 @@ fn best_edge_axis(a: &Polyhedron, b: &Polyhedron, floor: f64, slack: f64) -> Opt
 /// (negated for B): inline up to what a hull of some thirty points keeps.
 type EdgeArcs = SmallVec<[(usize, GaussArc); 64]>;
 
+/// Per face of `owner`: how far `other`'s centroid lies above its plane, raised by as much
+/// as an edge's end may lie off that plane (twice the spread: the face's offset is taken at
+/// one of its vertices) and by round-off `slack`, so that at an edge's end point p on the
+/// face, n · (centroid − p) is at most this.
+fn centroid_heights(owner: &Polyhedron, other: &Polyhedron, slack: f64) -> FaceHeights {
+    let raise = 2.0 * owner.plane_spread + slack;
+    (owner.faces.iter())
+        .map(|f| f.normal.dot(other.centroid) - f.offset + raise)
+        .collect()
+}
+
+/// One number per face of a polyhedron: inline up to what a hull of some thirty points has.
+type FaceHeights = SmallVec<[f64; 64]>;
+
 /// Whether some unit normal n on the great arc between `arc`'s ends (shorter than a half
-/// circle) has n · offset ≥ `level`.
+/// circle) has n · offset ≥ `level`, where `ends`, at least the larger of the ends'
+/// p · offset and q · offset, is all that is read unless it lies between 0 and the level.
 ///
 /// For an edge of A with its arc, and any axis n on it, A reaches out along n exactly to
 /// the edge, while B's nearest vertex lies at least B's inner radius nearer than its
@@ -542,8 +636,7 @@ type EdgeArcs = SmallVec<[(usize, GaussArc); 64]>;
 /// radius, an edge whose arc does not reach the level makes no pair above the floor, and is
 /// left out (for an edge of B, its negated arc and the offset from A's centroid to it,
 /// likewise).
-fn arc_reaches([p, q]: [DVec3; 2], offset: DVec3, level: f64) -> bool {
-    let ends = p.dot(offset).max(q.dot(offset));
+fn arc_reaches([p, q]: [DVec3; 2], offset: DVec3, level: f64, ends: f64) -> bool {
     if ends >= level {
         return true;
     }
@@ -552,6 +645,9 @@ fn arc_reaches([p, q]: [DVec3; 2], offset: DVec3, level: f64) -> bool {
         // weighted mean of two values at most `ends` ≤ 0, divided by at most its weight,
         // stays at most `ends`. Most edges face away from the other shape and stop here.
         return false;
+    }
+    if p.dot(offset).max(q.dot(offset)) >= level {
+        return true;
     }
     let plane = p.cross(q);
     let square = plane.length_squared();
@@ -1210,6 +1306,67 @@ pub(crate) mod tests {
     fn box_edge_faces_are_those_of_the_face_loops() {
         let loops = BOX_FACES.iter().map(|(loop_, _)| loop_.as_slice());
         assert_eq!(faces_at_edges(loops, &BOX_EDGES), BOX_EDGE_FACES);
+    }
+
+    /// A hull of 6 to 40 random points: on a unit sphere, or on a prism's two end faces
+    /// (whose merged faces are planar only to the construction's tolerance).
+    fn hull() -> impl Strategy<Value = Shape> {
+        let angles = proptest::collection::vec((0.0..std::f64::consts::TAU, -1.0..1.0f64), 6..40);
+        (angles, any::<bool>()).prop_filter_map("a solid", |(angles, prism)| {
+            let points: Vec<DVec3> = (angles.iter().enumerate())
+                .map(|(k, &(turn, rise))| {
+                    if prism {
+                        let end = if k % 2 == 0 { -0.4 } else { 0.4 };
+                        DVec3::new(turn.cos(), end, turn.sin())
+                    } else {
+                        let across = (1.0 - rise * rise).sqrt();
+                        DVec3::new(across * turn.cos(), rise, across * turn.sin())
+                    }
+                })
+                .collect();
+            let hull = ConvexHull::from_points(&points).ok()?;
+            (hull.volume() > 1e-2).then(|| Shape::ConvexHull(std::sync::Arc::new(hull)))
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        /// The edge pairs of two hulls left out below a floor, by the faces' centroid
+        /// heights and the arc bound, change nothing above it: the same pair at the same
+        /// separation as the search that leaves nothing out.
+        #[test]
+        fn hull_edge_pairs_left_out_below_a_floor_change_nothing_above_it(
+            shape_a in hull(),
+            shape_b in hull(),
+            turn_a in unit_quat(),
+            turn_b in unit_quat(),
+            offset in (-2.5..2.5f64, -2.5..2.5f64, -2.5..2.5f64),
+            floor in -1.0..0.3f64,
+        ) {
+            let posed_a = PosedShape::new(&shape_a, DVec3::new(1.0, 2.0, -0.5), DMat3::from_quat(turn_a));
+            let offset = DVec3::new(1.0 + offset.0, 2.0 + offset.1, -0.5 + offset.2);
+            let posed_b = PosedShape::new(&shape_b, offset, DMat3::from_quat(turn_b));
+            let a = Polyhedron::of(&posed_a).expect("a hull is a polyhedron");
+            let b = Polyhedron::of(&posed_b).expect("a hull is a polyhedron");
+            let slack = BOUND_ROUND_OFF * 20.0;
+            let every = best_edge_axis(&a, &b, f64::NEG_INFINITY, slack);
+            let floored = best_edge_axis(&a, &b, floor, slack);
+            match (floored, every) {
+                (
+                    Some(Axis::Edges { edge_a, edge_b, separation, .. }),
+                    Some(Axis::Edges { edge_a: ea, edge_b: eb, separation: s, .. }),
+                ) if s > floor => {
+                    prop_assert_eq!((edge_a, edge_b), (ea, eb));
+                    prop_assert_eq!(separation, s);
+                }
+                (x, y) => prop_assert!(
+                    x.is_none_or(|x| x.separation() <= floor)
+                        && y.is_none_or(|y| y.separation() <= floor),
+                    "{:?} against {:?} above {}", x, y, floor
+                ),
+            }
+        }
     }
 
     proptest! {

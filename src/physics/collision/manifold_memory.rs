@@ -22,6 +22,7 @@ use smallvec::SmallVec;
 use crate::physics::collision::contact::{
     Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS,
 };
+use crate::physics::collision::separating_axis::{SeparatedPair, SeparatingFeature};
 use crate::physics::collision::sorted_seek;
 use crate::physics::dynamics::body::{BodyId, RigidBody};
 
@@ -189,23 +190,64 @@ impl RememberedManifold {
     }
 }
 
-/// The manifolds of the last step, sorted by body pair as the narrow phase visits them.
+/// The manifolds of the last step, and the pairs of polyhedra a separating axis kept apart
+/// (see `separating_axis`), each sorted by body pair as the narrow phase visits them.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ManifoldMemory {
     manifolds: Vec<RememberedManifold>,
+    /// Absent from snapshots written before it was kept; it only spares searches.
+    #[serde(default)]
+    separated: Vec<SeparatedPair>,
+}
+
+/// What the narrow phase hands the memory after a step, and gets back to fill the next.
+#[derive(Clone, Debug, Default)]
+pub struct Remembered {
+    pub manifolds: Vec<RememberedManifold>,
+    pub separated: Vec<SeparatedPair>,
+}
+
+impl Remembered {
+    pub fn clear(&mut self) {
+        self.manifolds.clear();
+        self.separated.clear();
+    }
+
+    pub fn append(&mut self, other: &mut Remembered) {
+        self.manifolds.append(&mut other.manifolds);
+        self.separated.append(&mut other.separated);
+    }
+
+    pub fn reserve(&mut self, pairs: usize) {
+        self.manifolds.reserve(pairs);
+        self.separated.reserve(pairs);
+    }
 }
 
 impl ManifoldMemory {
-    /// `manifolds` must come sorted by body pair (the narrow phase's order).
-    pub fn new(manifolds: Vec<RememberedManifold>) -> Self {
+    /// Both lists must come sorted by body pair (the narrow phase's order).
+    pub fn new(
+        Remembered {
+            manifolds,
+            separated,
+        }: Remembered,
+    ) -> Self {
         debug_assert!(manifolds.is_sorted_by_key(|m| (m.body_a, m.body_b)));
-        ManifoldMemory { manifolds }
+        debug_assert!(separated.is_sorted_by_key(|m| (m.body_a, m.body_b)));
+        ManifoldMemory {
+            manifolds,
+            separated,
+        }
     }
 
-    /// Remembers `manifolds` instead (sorted by body pair, as for `new`) and hands back the
-    /// list it held.
-    pub fn replace(&mut self, manifolds: Vec<RememberedManifold>) -> Vec<RememberedManifold> {
-        std::mem::replace(self, ManifoldMemory::new(manifolds)).manifolds
+    /// Remembers `remembered` instead (sorted by body pair, as for `new`) and hands back
+    /// the lists it held.
+    pub fn replace(&mut self, remembered: Remembered) -> Remembered {
+        let old = std::mem::replace(self, ManifoldMemory::new(remembered));
+        Remembered {
+            manifolds: old.manifolds,
+            separated: old.separated,
+        }
     }
 
     /// `find_from` with a cursor of its own (for tests: the narrow phase keeps one).
@@ -228,13 +270,27 @@ impl ManifoldMemory {
         self.manifolds.get(at).filter(|m| key(m) == (a, b))
     }
 
+    /// The feature that separated `a` and `b` last step, if one did; searched from
+    /// `cursor` as `find_from` does.
+    pub fn separating_feature(
+        &self,
+        a: BodyId,
+        b: BodyId,
+        cursor: &mut usize,
+    ) -> Option<SeparatingFeature> {
+        let key = |m: &SeparatedPair| (m.body_a, m.body_b);
+        let at = sorted_seek::seek(&self.separated, key, &(a, b), cursor);
+        let found = self.separated.get(at).filter(|m| key(m) == (a, b));
+        found.map(|m| m.feature)
+    }
+
     /// Drops what was remembered about `bodies` (added, edited or removed since: their
     /// shapes may have changed).
     pub fn forget(&mut self, bodies: &[u32]) {
         let Some(&highest) = bodies.iter().max() else {
             return;
         };
-        if self.manifolds.is_empty() {
+        if self.manifolds.is_empty() && self.separated.is_empty() {
             return;
         }
         let mut marked = vec![false; highest as usize + 1];
@@ -244,16 +300,25 @@ impl ManifoldMemory {
         let forgotten = |id: BodyId| marked.get(id.index()).copied().unwrap_or(false);
         self.manifolds
             .retain(|m| !forgotten(m.body_a) && !forgotten(m.body_b));
+        self.separated
+            .retain(|m| !forgotten(m.body_a) && !forgotten(m.body_b));
     }
 
     pub fn clear(&mut self) {
         self.manifolds.clear();
+        self.separated.clear();
     }
 
     /// What a snapshot's reader checks: sorted, finite, naming bodies below `count`.
     pub fn check(&self, count: usize) -> Result<(), String> {
         if !(self.manifolds).is_sorted_by_key(|m| (m.body_a, m.body_b)) {
             return Err("the remembered manifolds are not sorted by body pair".into());
+        }
+        if !(self.separated).is_sorted_by_key(|m| (m.body_a, m.body_b)) {
+            return Err("the separated pairs are not sorted by body pair".into());
+        }
+        if (self.separated.iter()).any(|m| m.body_a.index().max(m.body_b.index()) >= count) {
+            return Err("a separated pair names a missing body".into());
         }
         for m in &self.manifolds {
             if m.body_a.index().max(m.body_b.index()) >= count {
@@ -316,7 +381,10 @@ mod tests {
                 ..one.clone()
             })
             .collect();
-        let memory = ManifoldMemory::new(manifolds);
+        let memory = ManifoldMemory::new(Remembered {
+            manifolds,
+            separated: Vec::new(),
+        });
         let binary = |a: u32, b: u32| {
             let found = keys.binary_search(&(a, b)).ok();
             found.map(|k| (memory.manifolds[k].body_a, memory.manifolds[k].body_b))
@@ -440,8 +508,10 @@ mod tests {
             body_b: BodyId(y),
             ..RememberedManifold::of(&generated(&a, &b), &a, &b, 0.02)
         };
-        let mut memory =
-            ManifoldMemory::new(vec![remembered(0, 1), remembered(0, 2), remembered(1, 3)]);
+        let mut memory = ManifoldMemory::new(Remembered {
+            manifolds: vec![remembered(0, 1), remembered(0, 2), remembered(1, 3)],
+            separated: Vec::new(),
+        });
         assert_eq!(memory.check(4), Ok(()));
         assert!(memory.check(3).unwrap_err().contains("missing body"));
         memory.forget(&[2]);

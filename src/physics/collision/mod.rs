@@ -9,4 +9,5 @@ pub(crate) mod contact_cache;
 pub mod manifold;
 pub(crate) mod manifold_memory;
 pub(crate) mod narrow_phase;
+pub(crate) mod separating_axis;
 pub(crate) mod sorted_seek;

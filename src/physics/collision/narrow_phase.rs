@@ -11,8 +11,9 @@ use rayon::prelude::*;
 use crate::physics::collision::broad_phase::{BodyPair, Proxy};
 use crate::physics::collision::closing_speed::{Clusters, PairReach, surface_speed};
 use crate::physics::collision::contact::ContactManifold;
-use crate::physics::collision::manifold::push_contact_manifold;
-use crate::physics::collision::manifold_memory::{ManifoldMemory, RememberedManifold};
+use crate::physics::collision::manifold::{PairOutcome, push_contact_manifold};
+use crate::physics::collision::manifold_memory::{ManifoldMemory, Remembered, RememberedManifold};
+use crate::physics::collision::separating_axis::SeparatedPair;
 use crate::physics::dynamics::body::{Motion, RigidBody};
 use crate::physics::geometry::aabb::Aabb;
 use crate::physics::geometry::shape::Shape;
@@ -127,8 +128,8 @@ pub fn find_manifolds(
 /// none of them.
 #[derive(Clone, Debug, Default)]
 pub struct NarrowScratch {
-    /// The list the next step's memory is built in: the one the memory held before.
-    spare: Vec<RememberedManifold>,
+    /// The lists the next step's memory is built in: those the memory held before.
+    spare: Remembered,
     /// One part per task when the pairs are spread over threads, joined in pair order.
     parts: Vec<Found>,
 }
@@ -137,7 +138,7 @@ pub struct NarrowScratch {
 #[derive(Clone, Debug, Default)]
 struct Found {
     manifolds: Vec<ContactManifold>,
-    remembered: Vec<RememberedManifold>,
+    remembered: Remembered,
 }
 
 impl Found {
@@ -157,15 +158,15 @@ impl Found {
         dt: f64,
         memory: &ManifoldMemory,
     ) {
-        // Where the search of `memory` starts (see `ManifoldMemory::find_from`).
-        let mut cursor = 0;
+        // Where the searches of `memory` start (see `ManifoldMemory::find_from`).
+        let mut cursors = MemoryCursors::default();
         for pair in pairs {
             let (a, b) = (&bodies[pair.a.index()], &bodies[pair.b.index()]);
             if !a.is_awake() && !b.is_awake() {
                 continue;
             }
             let reach = clusters.reach_of(pair, dt);
-            self.add_pair((a, b), pair, reach, memory, &mut cursor);
+            self.add_pair((a, b), pair, reach, memory, &mut cursors);
         }
     }
 
@@ -176,25 +177,45 @@ impl Found {
         pair: &BodyPair,
         PairReach { radii, closable }: PairReach,
         memory: &ManifoldMemory,
-        cursor: &mut usize,
+        cursors: &mut MemoryCursors,
     ) {
         let margin = SPECULATIVE_DISTANCE + closable;
-        let remembered = memory.find_from(pair.a, pair.b, cursor);
+        let remembered = memory.find_from(pair.a, pair.b, &mut cursors.manifolds);
         if let Some(remembered) = remembered
             && remembered.carry_into(a, b, radii, margin, closable, &mut self.manifolds)
         {
             // Cloned where it is stored, not aside and then moved there.
-            (self.remembered).extend_from_slice(std::slice::from_ref(remembered));
+            let manifolds = &mut self.remembered.manifolds;
+            manifolds.extend_from_slice(std::slice::from_ref(remembered));
             return;
         }
         if !bounding_spheres_within(a, b, radii, margin) {
             return;
         }
-        if push_contact_manifold((a, pair.a), (b, pair.b), margin, &mut self.manifolds) {
-            let manifold = self.manifolds.last().expect("just pushed");
-            (self.remembered).push(RememberedManifold::of(manifold, a, b, margin));
+        let hint = memory.separating_feature(pair.a, pair.b, &mut cursors.separated);
+        match push_contact_manifold((a, pair.a), (b, pair.b), margin, hint, &mut self.manifolds) {
+            PairOutcome::Touching => {
+                let manifold = self.manifolds.last().expect("just pushed");
+                let manifolds = &mut self.remembered.manifolds;
+                manifolds.push(RememberedManifold::of(manifold, a, b, margin));
+            }
+            PairOutcome::Apart(Some(feature)) => {
+                self.remembered.separated.push(SeparatedPair {
+                    body_a: pair.a,
+                    body_b: pair.b,
+                    feature,
+                });
+            }
+            PairOutcome::Apart(None) => {}
         }
     }
+}
+
+/// Where the narrow phase's searches of the two lists of the memory stand.
+#[derive(Default)]
+struct MemoryCursors {
+    manifolds: usize,
+    separated: usize,
 }
 
 /// Whether the spheres around the two shapes (about their origins, through their farthest

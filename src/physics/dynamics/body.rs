@@ -177,6 +177,20 @@ pub enum BodyError {
         /// The value given.
         value: f64,
     },
+    /// The density or mass gives a mass or inertia whose inverse is not a finite positive
+    /// number (a density of 1e-320 kg/m³, say): the body could not be moved by anything.
+    #[error(
+        "body '{body}': {field} gives a mass of {mass} kg, whose mass or inertia cannot be \
+         inverted to a finite number"
+    )]
+    MassNotInvertible {
+        /// The body's name.
+        body: String,
+        /// The field the mass came from: `mass` or `material.density`.
+        field: &'static str,
+        /// The mass it gave, kg.
+        mass: f64,
+    },
     /// A coefficient lies outside its range.
     #[error("body '{body}': {field} must lie in [{min}, {max}], got {value}")]
     OutOfRange {
@@ -375,6 +389,18 @@ impl RigidBody {
             Motion::Dynamic => (1.0 / props.mass, props.inertia.inverse()),
             Motion::Static | Motion::Isolated | Motion::Removed => (0.0, DMat3::ZERO),
         };
+        let invertible = inv_mass.is_finite() && inv_inertia_local.is_finite();
+        if desc.motion == Motion::Dynamic && !(invertible && props.inertia.is_finite()) {
+            return Err(BodyError::MassNotInvertible {
+                body: desc.name.clone(),
+                field: if desc.mass.is_some() {
+                    "mass"
+                } else {
+                    "material.density"
+                },
+                mass: props.mass,
+            });
+        }
         let mut body = RigidBody {
             name: desc.name.clone(),
             shape: desc.shape.clone(),
@@ -397,6 +423,16 @@ impl RigidBody {
         if body.is_dynamic() {
             body.linear_momentum = desc.velocity * props.mass;
             body.angular_momentum = body.inertia_world() * desc.angular_velocity;
+        }
+        // A finite speed times a huge mass can overflow.
+        for (momentum, field) in [
+            (body.linear_momentum, "velocity"),
+            (body.angular_momentum, "angular_velocity"),
+        ] {
+            if !momentum.is_finite() {
+                let body = desc.name.clone();
+                return Err(BodyError::NotFinite { body, field });
+            }
         }
         Ok(body)
     }

@@ -91,6 +91,8 @@ struct Derived {
     bounds: (DVec3, DVec3),
     /// See `ConvexHull::radius`.
     radius: f64,
+    /// See `ConvexHull::plane_spread`.
+    plane_spread: f64,
 }
 
 impl Clone for ConvexHull {
@@ -184,7 +186,18 @@ impl ConvexHull {
             radius: (self.vertices.iter())
                 .map(|v| v.length())
                 .fold(0.0, f64::max),
+            plane_spread: self.farthest_off_plane(),
         })
+    }
+
+    fn farthest_off_plane(&self) -> f64 {
+        let off_plane = |face: &HullFace| {
+            (face.vertices.iter())
+                .filter_map(|&v| self.vertices.get(v as usize))
+                .map(|&v| (face.normal.dot(v) - face.offset).abs())
+                .fold(0.0, f64::max)
+        };
+        self.faces.iter().map(off_plane).fold(0.0, f64::max)
     }
 
     /// For each edge, the two faces whose loops run along it (one each way); None where
@@ -204,6 +217,12 @@ impl ConvexHull {
     /// asks for it.
     pub fn radius(&self) -> f64 {
         self.derived().radius
+    }
+
+    /// How far any face's vertex lies off the face's plane (m): merged faces are planar to
+    /// the construction's tolerance, not exactly; kept, as every pair's search asks for it.
+    pub(crate) fn plane_spread(&self) -> f64 {
+        self.derived().plane_spread
     }
 
     /// The convex hull of `points`. Interior, duplicate and mid-edge/mid-face points are
