@@ -33,14 +33,33 @@ impl SeparatingFeature {
     /// their current poses. False when the shapes have no such feature (not polyhedra, or
     /// an index out of range: a stale or hand-edited memory) or the edges are parallel.
     pub fn still_separates(self, a: &PosedShape, b: &PosedShape, margin: f64) -> bool {
-        let Some(axis) = self.axis(a, b) else {
+        let Some(gap) = self.gap(a, b) else {
             return false;
         };
-        let gap = axis.dot(world_support(b, -axis)) - axis.dot(world_support(a, axis));
         // The full search rounds differently: a gap this close to the margin is left to it.
         let scale = a.origin.length() + b.origin.length();
         let slack = ROUND_OFF * (scale + a.shape.bounding_radius() + b.shape.bounding_radius());
         gap > margin + slack
+    }
+
+    /// A lower bound on the gap between the shapes along this feature's axis. Along a face's
+    /// normal its own shape reaches no farther than the face's plane (and a valid hull's
+    /// tolerance above it), so only the other shape's support is sought.
+    fn gap(self, a: &PosedShape, b: &PosedShape) -> Option<f64> {
+        let facing = |owner: &PosedShape, other: &PosedShape, k: u32| {
+            let (normal, reach) = face_plane(owner.shape, k)?;
+            let normal = owner.rotation * normal;
+            let plane = normal.dot(owner.origin) + reach;
+            Some(normal.dot(world_support(other, -normal)) - plane)
+        };
+        match self {
+            SeparatingFeature::FaceOfA(k) => facing(a, b, k),
+            SeparatingFeature::FaceOfB(k) => facing(b, a, k),
+            SeparatingFeature::Edges(..) => {
+                let axis = self.axis(a, b)?;
+                Some(axis.dot(world_support(b, -axis)) - axis.dot(world_support(a, axis)))
+            }
+        }
     }
 
     /// The unit axis, pointing from A towards B.
@@ -102,10 +121,22 @@ fn world_center(posed: &PosedShape) -> DVec3 {
 
 /// Face `k`'s outward unit normal in shape coordinates.
 fn face_normal(shape: &Shape, k: u32) -> Option<DVec3> {
+    face_plane(shape, k).map(|(normal, _)| normal)
+}
+
+/// Face `k`'s outward unit normal in shape coordinates, and how far the shape reaches from
+/// its origin along it, at most.
+fn face_plane(shape: &Shape, k: u32) -> Option<(DVec3, f64)> {
     let k = k as usize;
     match shape {
-        Shape::Cuboid { .. } => BOX_FACES.get(k).map(|face| face.1),
-        Shape::ConvexHull(hull) => hull.faces.get(k).map(|face| face.normal),
+        Shape::Cuboid { half_extents } => {
+            let normal = BOX_FACES.get(k)?.1;
+            Some((normal, normal.abs().dot(*half_extents)))
+        }
+        Shape::ConvexHull(hull) => {
+            let face = hull.faces.get(k)?;
+            Some((face.normal, face.offset + hull.plane_tolerance()))
+        }
         _ => None,
     }
 }
@@ -176,6 +207,42 @@ mod tests {
             .axis(a, b)
             .expect("the search's feature has an axis");
         axis.dot(world_support(b, -axis)) - axis.dot(world_support(a, axis))
+    }
+
+    /// Along a face's normal the bound from the face's plane lies within the plane
+    /// tolerance below the gap measured from both shapes' supports, never above it.
+    #[test]
+    fn the_gap_from_a_face_plane_bounds_the_gap_from_the_supports() {
+        let points: Vec<DVec3> = (0..32)
+            .map(|k| {
+                let t = k as f64;
+                DVec3::new((1.3 * t).sin(), (0.7 * t).cos(), (2.9 * t).sin()).normalize()
+            })
+            .collect();
+        let hull = Shape::ConvexHull(Arc::new(ConvexHull::from_points(&points).unwrap()));
+        let cuboid = Shape::cuboid(DVec3::new(0.3, 0.5, 0.7));
+        let turn = DMat3::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 0.4);
+        for (shape_a, shape_b) in [(&hull, &cuboid), (&cuboid, &hull), (&hull, &hull)] {
+            let a = PosedShape::new(shape_a, DVec3::new(0.2, 0.1, -0.3), turn);
+            let b = PosedShape::new(shape_b, DVec3::new(1.9, 2.3, 0.8), turn.transpose());
+            let faces = |shape: &Shape| match shape {
+                Shape::ConvexHull(hull) => hull.faces.len() as u32,
+                _ => 6,
+            };
+            let of_a = (0..faces(shape_a)).map(SeparatingFeature::FaceOfA);
+            for feature in of_a.chain((0..faces(shape_b)).map(SeparatingFeature::FaceOfB)) {
+                let bound = feature.gap(&a, &b).expect("a face");
+                let measured = gap_along(feature, &a, &b);
+                assert!(
+                    bound <= measured + 1e-12,
+                    "{feature:?}: {bound} above {measured}"
+                );
+                assert!(
+                    bound >= measured - 1e-8,
+                    "{feature:?}: {bound} far below {measured}"
+                );
+            }
+        }
     }
 
     proptest! {

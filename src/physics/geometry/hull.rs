@@ -93,6 +93,8 @@ struct Derived {
     radius: f64,
     /// See `ConvexHull::plane_spread`.
     plane_spread: f64,
+    /// See `ConvexHull::plane_tolerance`.
+    plane_tolerance: f64,
 }
 
 impl Clone for ConvexHull {
@@ -180,13 +182,17 @@ impl ConvexHull {
     }
 
     fn derived(&self) -> &Derived {
-        self.derived.get_or_init(|| Derived {
-            edge_faces: faces_at_edges(self.face_loops(), &self.edges),
-            bounds: bounds(&self.vertices),
-            radius: (self.vertices.iter())
-                .map(|v| v.length())
-                .fold(0.0, f64::max),
-            plane_spread: self.farthest_off_plane(),
+        self.derived.get_or_init(|| {
+            let (min, max) = bounds(&self.vertices);
+            Derived {
+                edge_faces: faces_at_edges(self.face_loops(), &self.edges),
+                bounds: (min, max),
+                radius: (self.vertices.iter())
+                    .map(|v| v.length())
+                    .fold(0.0, f64::max),
+                plane_spread: self.farthest_off_plane(),
+                plane_tolerance: plane_tolerance(min, max),
+            }
         })
     }
 
@@ -223,6 +229,12 @@ impl ConvexHull {
     /// the construction's tolerance, not exactly; kept, as every pair's search asks for it.
     pub(crate) fn plane_spread(&self) -> f64 {
         self.derived().plane_spread
+    }
+
+    /// How far any vertex of a hull that passes `validate` lies above any face's plane, at
+    /// most (m): a face's offset plus this bounds the hull's reach along its normal.
+    pub(crate) fn plane_tolerance(&self) -> f64 {
+        self.derived().plane_tolerance
     }
 
     /// The convex hull of `points`. Interior, duplicate and mid-edge/mid-face points are
@@ -300,9 +312,7 @@ impl ConvexHull {
                 return Err(HullError::ExtentOutOfRange(half_extent));
             }
         }
-        let half_size = ((max - min) * 0.5).max_element();
-        let construction = Tolerance::new(relative_noise(min, max)).on_plane;
-        let slack = (VALIDATE_TOLERANCE + 10.0 * construction) * half_size;
+        let slack = plane_tolerance(min, max);
         for (index, face) in self.faces.iter().enumerate() {
             let off_plane =
                 |&v: &u32| (face.normal.dot(self.vertices[v as usize]) - face.offset).abs() > slack;
@@ -327,11 +337,19 @@ impl ConvexHull {
     /// The vertex farthest along `direction` (shape coordinates); the origin for a hull
     /// without vertices. Linear in the number of vertices.
     pub fn support(&self, direction: DVec3) -> DVec3 {
-        self.vertices
-            .iter()
-            .copied()
-            .max_by(|a, b| a.dot(direction).total_cmp(&b.dot(direction)))
-            .unwrap_or(DVec3::ZERO)
+        // Each vertex's reach is taken once (a comparison of `max_by` takes two), and of
+        // equal ones the last wins, as with `max_by`.
+        let Some((&first, rest)) = self.vertices.split_first() else {
+            return DVec3::ZERO;
+        };
+        let mut best = (first, first.dot(direction));
+        for &vertex in rest {
+            let reach = vertex.dot(direction);
+            if reach.total_cmp(&best.1).is_ge() {
+                best = (vertex, reach);
+            }
+        }
+        best.0
     }
 
     /// Enclosed volume (m³), exact for the polyhedron.
@@ -475,6 +493,14 @@ fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
         |(min, max), &p| (min.min(p), max.max(p)),
     )
+}
+
+/// How far a valid hull's vertices may lie above a face's plane, for a hull within these
+/// bounds: what `validate` allows.
+fn plane_tolerance(min: DVec3, max: DVec3) -> f64 {
+    let half_size = ((max - min) * 0.5).max_element();
+    let construction = Tolerance::new(relative_noise(min, max)).on_plane;
+    (VALIDATE_TOLERANCE + 10.0 * construction) * half_size
 }
 
 /// At least a tetrahedron's 4, at most `MAX_HULL_POINTS`.
