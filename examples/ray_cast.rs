@@ -3,7 +3,7 @@
 
 use rigid::prelude::*;
 
-fn main() -> Result<(), AddBodyError> {
+fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut world = World::default();
     let sphere = world.add_body(
         BodyDesc::fixed(Shape::sphere(1.0))
@@ -28,7 +28,7 @@ fn main() -> Result<(), AddBodyError> {
         DVec3::new(-4.0, 1.0, -5.0),
         DVec3::new(0.0, 5.0, -5.0),
     ] {
-        match world.ray_cast(eye, target - eye, 100.0) {
+        match world.ray_cast(eye, target - eye, 100.0)? {
             Some(hit) => println!(
                 "ray towards {target}: hits {} at {:.3} m, point {:.3}, normal {:.3}",
                 world.body(hit.body).name,
@@ -43,7 +43,7 @@ fn main() -> Result<(), AddBodyError> {
     // A ball of radius 0.5 swept from the eye towards the sphere stops when the surfaces
     // touch: 5 − 1 − 0.5 = 3.5 m along the way.
     let ball = Shape::sphere(0.5);
-    let swept = world.shape_cast(&ball, eye, DQuat::IDENTITY, DVec3::NEG_Z, 100.0);
+    let swept = world.shape_cast(&ball, eye, DQuat::IDENTITY, DVec3::NEG_Z, 100.0)?;
     if let Some(hit) = swept {
         assert_eq!(hit.body, sphere);
         println!(

@@ -19,6 +19,7 @@
 #![warn(missing_docs)]
 
 pub mod input_file;
+pub mod output_file;
 pub mod physics;
 #[cfg(feature = "viewer")]
 pub mod render;

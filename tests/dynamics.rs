@@ -463,3 +463,21 @@ fn the_world_refuses_a_mass_it_cannot_invert_or_a_momentum_that_overflows() {
     let ball = BodyDesc::dynamic(Shape::sphere(1e-3)).with_velocity(DVec3::X * 1e3);
     assert!(world.add_body(ball).is_ok());
 }
+
+/// The checked accessors answer None for an id the world does not have, where `body` and
+/// `body_mut` panic, and give the same body as they do otherwise.
+#[test]
+fn checked_accessors_answer_none_for_a_missing_body() {
+    let mut world = World::default();
+    let id = world
+        .add_body(BodyDesc::dynamic(Shape::sphere(0.5)).at(DVec3::Y))
+        .unwrap();
+    let missing = BodyId(7);
+    assert!(world.get_body(missing).is_none());
+    assert!(world.get_body_mut(missing).is_none());
+    assert_eq!(world.get_body(id).map(|b| b.position), Some(DVec3::Y));
+    world.get_body_mut(id).unwrap().position.x = 2.0;
+    assert_eq!(world.body(id).position, DVec3::new(2.0, 1.0, 0.0));
+    let panicked = std::panic::catch_unwind(|| World::default().body(missing).position);
+    assert!(panicked.is_err());
+}

@@ -6,7 +6,7 @@ use common::*;
 use glam::{DMat3, DQuat, DVec3};
 use proptest::prelude::*;
 use rigid::physics::ray_cast_shape;
-use rigid::physics::{BodyDesc, PosedShape, Shape, World, gjk_distance};
+use rigid::physics::{BodyDesc, PosedShape, QueryError, Shape, World, gjk_distance};
 
 const TOL: f64 = 1e-9;
 
@@ -38,6 +38,7 @@ fn ray_hits_sphere_box_and_hull_analytically() {
     )]);
     let hit = world
         .ray_cast(DVec3::new(0.6, 0.0, 0.0), DVec3::Z * 2.0, 10.0)
+        .expect("a valid query")
         .unwrap();
     assert!((hit.distance - 4.2).abs() < TOL);
     assert!((hit.fraction - 0.42).abs() < TOL);
@@ -55,6 +56,7 @@ fn ray_hits_sphere_box_and_hull_analytically() {
     )]);
     let hit = world
         .ray_cast(DVec3::new(0.0, 0.0, -0.2), DVec3::X, 10.0)
+        .expect("a valid query")
         .unwrap();
     assert!(
         (hit.distance - (3.0 - 2f64.sqrt() + 0.2)).abs() < TOL,
@@ -81,11 +83,27 @@ fn ray_misses_stops_and_starts_inside() {
         DVec3::new(5.0, 0.0, 0.0),
         DQuat::IDENTITY,
     )]);
-    assert!(world.ray_cast(DVec3::ZERO, DVec3::Y, 100.0).is_none());
-    assert!(world.ray_cast(DVec3::ZERO, DVec3::X, 3.9).is_none());
-    assert!(world.ray_cast(DVec3::ZERO, DVec3::X, 4.0).is_some());
+    assert!(
+        world
+            .ray_cast(DVec3::ZERO, DVec3::Y, 100.0)
+            .expect("a valid query")
+            .is_none()
+    );
+    assert!(
+        world
+            .ray_cast(DVec3::ZERO, DVec3::X, 3.9)
+            .expect("a valid query")
+            .is_none()
+    );
+    assert!(
+        world
+            .ray_cast(DVec3::ZERO, DVec3::X, 4.0)
+            .expect("a valid query")
+            .is_some()
+    );
     let inside = world
         .ray_cast(DVec3::new(5.0, 0.5, 0.0), DVec3::X, 10.0)
+        .expect("a valid query")
         .unwrap();
     assert_eq!(inside.distance, 0.0);
     assert_close(inside.normal, -DVec3::X, TOL);
@@ -110,7 +128,10 @@ fn ray_picks_the_nearest_body() {
             DQuat::IDENTITY,
         ),
     ]);
-    let hit = world.ray_cast(DVec3::ZERO, DVec3::Y, 100.0).unwrap();
+    let hit = world
+        .ray_cast(DVec3::ZERO, DVec3::Y, 100.0)
+        .expect("a valid query")
+        .unwrap();
     assert_eq!(hit.body.0, 1);
     // The capsule's axis (−sin 1, cos 1, 0) passes through (0.1, 4); its surface faces the
     // ray with normal −(cos 1, sin 1, 0), at 0.25 from the axis: 0.1 cos 1 − (y − 4) sin 1 = 0.25.
@@ -125,6 +146,7 @@ fn ray_picks_the_nearest_body() {
     // Cylinder cap from below.
     let cap = world
         .ray_cast(DVec3::new(0.0, 10.0, 0.2), DVec3::Y, 100.0)
+        .expect("a valid query")
         .unwrap();
     assert_eq!(cap.body.0, 2);
     assert!((cap.distance - 1.5).abs() < 1e-7);
@@ -147,6 +169,7 @@ fn shape_cast_sphere_onto_box() {
             -DVec3::Y,
             10.0,
         )
+        .expect("a valid query")
         .unwrap();
     assert!((hit.distance - 2.25).abs() < 1e-8, "{}", hit.distance);
     assert_close(hit.point, DVec3::new(0.5, 0.5, 0.0), 1e-8);
@@ -161,6 +184,7 @@ fn shape_cast_sphere_onto_box() {
             -DVec3::Y,
             10.0,
         )
+        .expect("a valid query")
         .unwrap();
     assert!((hit.distance - (2.5 - 0.5 * 2f64.sqrt())).abs() < 1e-8);
     assert!(
@@ -172,6 +196,7 @@ fn shape_cast_sphere_onto_box() {
                 DVec3::Y,
                 10.0
             )
+            .expect("a valid query")
             .is_none()
     );
 }
@@ -221,10 +246,12 @@ fn compounds_are_cast_against_part_by_part() {
     assert!(
         world
             .ray_cast(DVec3::new(1.0, 1.0, -5.0), DVec3::Z, 10.0)
+            .expect("a valid query")
             .is_none()
     );
     let hit = world
         .ray_cast(DVec3::new(1.0, 0.2, -5.0), DVec3::Z, 10.0)
+        .expect("a valid query")
         .unwrap();
     assert!((hit.distance - 4.5).abs() < TOL);
     assert_close(hit.normal, -DVec3::Z, TOL);
@@ -238,6 +265,55 @@ fn compounds_are_cast_against_part_by_part() {
             -DVec3::Y,
             10.0,
         )
+        .expect("a valid query")
         .unwrap();
     assert!((drop.distance - 2.3).abs() < 1e-8, "{}", drop.distance);
+}
+
+/// Values a query cannot answer for are typed errors, not hits: a NaN origin once returned
+/// a hit at distance 0, and a shape of radius −1 a hit.
+#[test]
+fn bad_query_arguments_are_errors() {
+    let mut world = World::default();
+    world
+        .add_body(BodyDesc::fixed(Shape::cuboid(DVec3::ONE)))
+        .unwrap();
+    let nan = DVec3::new(f64::NAN, 0.0, 0.0);
+    let not_finite = |argument| Err(QueryError::NotFinite { argument });
+    assert_eq!(world.ray_cast(nan, DVec3::X, 10.0), not_finite("origin"));
+    assert_eq!(
+        world.ray_cast(DVec3::Y * 5.0, nan, 10.0),
+        not_finite("direction")
+    );
+    assert_eq!(
+        world.ray_cast(DVec3::Y * 5.0, -DVec3::Y, f64::INFINITY),
+        not_finite("max_distance")
+    );
+    assert_eq!(
+        world.ray_cast(DVec3::Y * 5.0, -DVec3::Y, -1.0),
+        Err(QueryError::NegativeDistance(-1.0))
+    );
+    assert_eq!(
+        world.ray_cast(DVec3::Y * 5.0, DVec3::ZERO, 10.0),
+        Err(QueryError::ZeroDirection)
+    );
+    let above = DVec3::Y * 5.0;
+    let cast = |shape: &Shape, rotation| world.shape_cast(shape, above, rotation, -DVec3::Y, 10.0);
+    let negative = Shape::Sphere { radius: -1.0 };
+    assert!(matches!(
+        cast(&negative, DQuat::IDENTITY),
+        Err(QueryError::Shape(_))
+    ));
+    let ball = Shape::sphere(0.5);
+    assert_eq!(
+        cast(&ball, DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0)),
+        Err(QueryError::ZeroRotation)
+    );
+    assert_eq!(
+        cast(&ball, DQuat::from_xyzw(f64::NAN, 0.0, 0.0, 1.0)),
+        not_finite("rotation")
+    );
+    // The same ball, validly cast, lands on the box top: 5 − 1 − 0.5 = 3.5 m down.
+    let hit = cast(&ball, DQuat::IDENTITY).unwrap().expect("a hit");
+    assert!((hit.distance - 3.5).abs() < 1e-6, "{}", hit.distance);
 }

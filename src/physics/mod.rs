@@ -35,7 +35,7 @@ pub use geometry::gjk::{GjkResult, PosedShape, SupportMap, gjk_distance, gjk_int
 pub use geometry::hull::{ConvexHull, HullError, HullFace, MAX_HULL_POINTS};
 pub use geometry::mass::MassProperties;
 pub use geometry::shape::{Pose, Shape, ShapeError};
-pub use query::{CastHit, ray_cast, shape_cast};
+pub use query::{CastHit, QueryError, ray_cast, shape_cast};
 pub use snapshot::{SnapshotError, WorldSnapshot};
 pub use solver::classic::{ClassicReport, ClassicSettings, MainLoop};
 pub use solver::soft::SoftSolverSettings;

@@ -117,11 +117,14 @@ impl WorldSnapshot {
         Ok(snapshot)
     }
 
-    /// Writes `to_ron` to `path`; a failed write is `Unreadable`.
+    /// Writes `to_ron` to `path` (see `output_file::write_atomically`: a failed write leaves
+    /// the file that was there); a failed write is `Unreadable`.
     pub fn save(&self, path: &Path) -> Result<(), SnapshotError> {
-        std::fs::write(path, self.to_ron()).map_err(|e| SnapshotError::Unreadable {
-            file: path.display().to_string(),
-            message: e.to_string(),
+        crate::output_file::write_atomically(path, &self.to_ron()).map_err(|e| {
+            SnapshotError::Unreadable {
+                file: path.display().to_string(),
+                message: e.to_string(),
+            }
         })
     }
 

@@ -313,13 +313,31 @@ impl World {
         Ok(())
     }
 
-    /// The body `id`. Panics if the world has no such body.
+    /// The body `id`.
+    ///
+    /// # Panics
+    /// If the world has no such body (an id from another world); `get_body` does not.
     pub fn body(&self, id: BodyId) -> &RigidBody {
         &self.bodies[id.index()]
     }
 
+    /// The body `id`, or None if the world has no such body.
+    pub fn get_body(&self, id: BodyId) -> Option<&RigidBody> {
+        self.bodies.get(id.index())
+    }
+
+    /// `body_mut`, or None if the world has no such body.
+    pub fn get_body_mut(&mut self, id: BodyId) -> Option<&mut RigidBody> {
+        let body = self.bodies.get_mut(id.index())?;
+        self.awake_set.touch(id.index());
+        Some(body)
+    }
+
     /// Mutable access; the next step looks at the body again (its box, whether it is awake,
-    /// whether its state is finite). Panics if the world has no such body.
+    /// whether its state is finite).
+    ///
+    /// # Panics
+    /// If the world has no such body; `get_body_mut` does not.
     pub fn body_mut(&mut self, id: BodyId) -> &mut RigidBody {
         if id.index() < self.bodies.len() {
             self.awake_set.touch(id.index());

@@ -58,9 +58,11 @@ impl Recording {
         Ok(recording)
     }
 
-    /// Writes the recording to `path`; the error names the path.
+    /// Writes the recording to `path`, leaving the old file whole if the write fails; the
+    /// error names the path.
     pub fn save(&self, path: &Path) -> Result<(), String> {
-        std::fs::write(path, self.to_ron()).map_err(|e| format!("{}: {e}", path.display()))
+        crate::output_file::write_atomically(path, &self.to_ron())
+            .map_err(|e| format!("{}: {e}", path.display()))
     }
 
     /// Reads and checks a recording file (see `from_ron`); errors name the file.

@@ -26,11 +26,13 @@ pub struct SavedWorld {
 }
 
 impl SavedWorld {
-    /// Writes the file to `path`; the error names the path.
+    /// Writes the file to `path`, leaving the old file whole if the write fails; the error
+    /// names the path.
     pub fn save(&self, path: &Path) -> Result<(), String> {
         let config = ron::ser::PrettyConfig::new().depth_limit(4);
         let text = ron::ser::to_string_pretty(self, config).expect("a saved world is plain data");
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+        crate::output_file::write_atomically(path, &text)
+            .map_err(|e| format!("{}: {e}", path.display()))
     }
 
     /// Reads and checks a saved world (see `WorldSnapshot::check`).
