@@ -1308,6 +1308,43 @@ pub(crate) mod tests {
         assert_eq!(faces_at_edges(loops, &BOX_EDGES), BOX_EDGE_FACES);
     }
 
+    /// An edge search that left pairs out below `floor` found what the full search found
+    /// above it: the same pair at the same separation, or nothing above the floor.
+    fn same_above_floor(
+        floored: Option<Axis>,
+        full: Option<Axis>,
+        floor: f64,
+    ) -> Result<(), TestCaseError> {
+        match (floored, full) {
+            (
+                Some(Axis::Edges {
+                    edge_a,
+                    edge_b,
+                    separation,
+                    ..
+                }),
+                Some(Axis::Edges {
+                    edge_a: ea,
+                    edge_b: eb,
+                    separation: s,
+                    ..
+                }),
+            ) if s > floor => {
+                prop_assert_eq!((edge_a, edge_b), (ea, eb));
+                prop_assert_eq!(separation, s);
+            }
+            (x, y) => prop_assert!(
+                x.is_none_or(|x| x.separation() <= floor)
+                    && y.is_none_or(|y| y.separation() <= floor),
+                "{:?} against {:?} above {}",
+                x,
+                y,
+                floor
+            ),
+        }
+        Ok(())
+    }
+
     /// A hull of 6 to 40 random points: on a unit sphere, or on a prism's two end faces
     /// (whose merged faces are planar only to the construction's tolerance).
     fn hull() -> impl Strategy<Value = Shape> {
@@ -1352,20 +1389,7 @@ pub(crate) mod tests {
             let slack = BOUND_ROUND_OFF * 20.0;
             let every = best_edge_axis(&a, &b, f64::NEG_INFINITY, slack);
             let floored = best_edge_axis(&a, &b, floor, slack);
-            match (floored, every) {
-                (
-                    Some(Axis::Edges { edge_a, edge_b, separation, .. }),
-                    Some(Axis::Edges { edge_a: ea, edge_b: eb, separation: s, .. }),
-                ) if s > floor => {
-                    prop_assert_eq!((edge_a, edge_b), (ea, eb));
-                    prop_assert_eq!(separation, s);
-                }
-                (x, y) => prop_assert!(
-                    x.is_none_or(|x| x.separation() <= floor)
-                        && y.is_none_or(|y| y.separation() <= floor),
-                    "{:?} against {:?} above {}", x, y, floor
-                ),
-            }
+            same_above_floor(floored, every, floor)?;
         }
     }
 
@@ -1444,20 +1468,7 @@ pub(crate) mod tests {
                 best_edge_axis(&a, &b, floor, slack),
                 best_edge_axis(&general_a, &general_b, floor, slack),
             ] {
-                match (floored, searched) {
-                    (
-                        Some(Axis::Edges { edge_a, edge_b, separation, .. }),
-                        Some(Axis::Edges { edge_a: ea, edge_b: eb, separation: s, .. }),
-                    ) if s > floor => {
-                        prop_assert_eq!((edge_a, edge_b), (ea, eb));
-                        prop_assert_eq!(separation, s);
-                    }
-                    (x, y) => prop_assert!(
-                        x.is_none_or(|x| x.separation() <= floor)
-                            && y.is_none_or(|y| y.separation() <= floor),
-                        "{:?} against {:?} above {}", x, y, floor
-                    ),
-                }
+                same_above_floor(floored, searched, floor)?;
             }
         }
     }
