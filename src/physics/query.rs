@@ -174,11 +174,7 @@ impl World {
         direction: DVec3,
         max_distance: f64,
     ) -> Result<Option<CastHit>, QueryError> {
-        if !rotation.is_finite() {
-            return Err(QueryError::NotFinite {
-                argument: "rotation",
-            });
-        }
+        // A non-finite rotation stays so through `normalize`, and `shape_cast` refuses it.
         // As a body's rotation: a quaternion this short has no direction to normalise to.
         if rotation.length() < 1e-6 {
             return Err(QueryError::ZeroRotation);

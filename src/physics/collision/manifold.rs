@@ -628,7 +628,8 @@ type FaceHeights = SmallVec<[f64; 64]>;
 
 /// Whether some unit normal n on the great arc between `arc`'s ends (shorter than a half
 /// circle) has n · offset ≥ `level`, where `ends`, at least the larger of the ends'
-/// p · offset and q · offset, is all that is read unless it lies between 0 and the level.
+/// p · offset and q · offset, is all that is read unless it lies between 0 and the level
+/// (then the peak inside the arc decides: the ends themselves are below the level).
 ///
 /// For an edge of A with its arc, and any axis n on it, A reaches out along n exactly to
 /// the edge, while B's nearest vertex lies at least B's inner radius nearer than its
@@ -645,9 +646,6 @@ fn arc_reaches([p, q]: [DVec3; 2], offset: DVec3, level: f64, ends: f64) -> bool
         // weighted mean of two values at most `ends` ≤ 0, divided by at most its weight,
         // stays at most `ends`. Most edges face away from the other shape and stop here.
         return false;
-    }
-    if p.dot(offset).max(q.dot(offset)) >= level {
-        return true;
     }
     let plane = p.cross(q);
     let square = plane.length_squared();

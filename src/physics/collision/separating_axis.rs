@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::physics::collision::manifold::{BOX_EDGES, BOX_FACES};
 use crate::physics::dynamics::body::BodyId;
-use crate::physics::geometry::gjk::PosedShape;
+use crate::physics::geometry::gjk::{PosedShape, SupportMap};
 use crate::physics::geometry::shape::Shape;
 
 /// The features whose axis separated a pair, by their indices in the shapes' face and edge
@@ -50,14 +50,14 @@ impl SeparatingFeature {
             let (normal, reach) = face_plane(owner.shape, k)?;
             let normal = owner.rotation * normal;
             let plane = normal.dot(owner.origin) + reach;
-            Some(normal.dot(world_support(other, -normal)) - plane)
+            Some(normal.dot(other.core_support(-normal)) - plane)
         };
         match self {
             SeparatingFeature::FaceOfA(k) => facing(a, b, k),
             SeparatingFeature::FaceOfB(k) => facing(b, a, k),
             SeparatingFeature::Edges(..) => {
                 let axis = self.axis(a, b)?;
-                Some(axis.dot(world_support(b, -axis)) - axis.dot(world_support(a, axis)))
+                Some(axis.dot(b.core_support(-axis)) - axis.dot(a.core_support(axis)))
             }
         }
     }
@@ -101,11 +101,6 @@ pub struct SeparatedPair {
     pub body_a: BodyId,
     pub body_b: BodyId,
     pub feature: SeparatingFeature,
-}
-
-fn world_support(posed: &PosedShape, direction: DVec3) -> DVec3 {
-    let local = posed.shape.support(posed.rotation.transpose() * direction);
-    posed.origin + posed.rotation * local
 }
 
 /// The middle of the shape's bounds, in the world: inside it, which orients an edge axis.
@@ -206,7 +201,7 @@ mod tests {
         let axis = feature
             .axis(a, b)
             .expect("the search's feature has an axis");
-        axis.dot(world_support(b, -axis)) - axis.dot(world_support(a, axis))
+        axis.dot(b.core_support(-axis)) - axis.dot(a.core_support(axis))
     }
 
     /// Along a face's normal the bound from the face's plane lies within the plane
