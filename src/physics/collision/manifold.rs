@@ -21,7 +21,8 @@ use smallvec::SmallVec;
 use crate::physics::collision::contact::{
     Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS, ManifoldPoints,
 };
-use crate::physics::collision::separating_axis::SeparatingFeature;
+use crate::physics::collision::manifold_memory::REUSE_DISTANCE;
+use crate::physics::collision::separating_axis::{ContactFeature, SeparatingFeature};
 use crate::physics::dynamics::body::{BodyId, RigidBody};
 use crate::physics::geometry::epa::signed_distance_within;
 use crate::physics::geometry::gjk::{PosedShape, SupportMap};
@@ -44,34 +45,44 @@ pub fn contact_manifold(
 }
 
 /// What the search found of a pair besides its contacts.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum PairOutcome {
-    /// A manifold was pushed.
-    Touching,
+    /// A manifold was pushed, clipped from this feature when two polyhedra touch.
+    Touching(Option<ContactFeature>),
     /// None was: the pair is farther apart than the margin, along this axis when a
     /// separating axis showed it.
     Apart(Option<SeparatingFeature>),
 }
 
+/// The feature of two polyhedra that a search last found, tried first the next time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum PairFeature {
+    /// It separated them.
+    Apart(SeparatingFeature),
+    /// Their contacts were clipped from it.
+    Touching(ContactFeature),
+}
+
 /// `contact_manifold` pushed onto `manifolds` when there is one (see
-/// `ContactManifold::push_built`). `hint`, the feature that last separated the pair, is
-/// tried before any search.
+/// `ContactManifold::push_built`). `hint`, the feature the last search found, is tried
+/// before any search.
 pub(crate) fn push_contact_manifold(
     (a, id_a): (&RigidBody, BodyId),
     (b, id_b): (&RigidBody, BodyId),
     margin: f64,
-    hint: Option<SeparatingFeature>,
+    hint: Option<PairFeature>,
     manifolds: &mut Vec<ContactManifold>,
 ) -> PairOutcome {
     let (a, b) = (PosedShape::of_body(a), PosedShape::of_body(b));
-    let mut separating = None;
+    let mut found = None;
     let pushed = ContactManifold::push_built(manifolds, id_a, id_b, |points| {
-        separating = add_manifold_points(&a, &b, margin, hint, points);
+        found = add_manifold_points(&a, &b, margin, hint, points);
     });
-    if pushed {
-        PairOutcome::Touching
-    } else {
-        PairOutcome::Apart(separating)
+    match found {
+        Some(PairFeature::Touching(feature)) if pushed => PairOutcome::Touching(Some(feature)),
+        _ if pushed => PairOutcome::Touching(None),
+        Some(PairFeature::Apart(feature)) => PairOutcome::Apart(Some(feature)),
+        _ => PairOutcome::Apart(None),
     }
 }
 
@@ -84,15 +95,15 @@ pub fn generate_contacts(a: &PosedShape, b: &PosedShape, margin: f64) -> Vec<Con
 }
 
 /// `generate_contacts`, added to `points`, trying `hint` first (see `push_contact_manifold`).
-/// Returns the feature whose axis separates two polyhedra farther than `margin`, when that
-/// is how they were found apart.
+/// Returns, for two polyhedra, the feature whose axis separates them farther than `margin`
+/// or the one their contacts were clipped from.
 pub(crate) fn add_manifold_points(
     a: &PosedShape,
     b: &PosedShape,
     margin: f64,
-    hint: Option<SeparatingFeature>,
+    hint: Option<PairFeature>,
     points: &mut ManifoldPoints,
-) -> Option<SeparatingFeature> {
+) -> Option<PairFeature> {
     // Filled in place by the searches below: returned by value, the inline list was copied
     // at every return on the way up.
     let mut contacts = Contacts::new();
@@ -143,35 +154,37 @@ fn part_contacts(
     }
 }
 
-/// Adds to `contacts` (empty on entry); returns the separating feature of two polyhedra
-/// found farther apart than `margin`.
+/// Adds to `contacts` (empty on entry); returns, for two polyhedra, the feature that
+/// separates them farther than `margin` or the one their contacts were clipped from.
 fn convex_contacts(
     a: &PosedShape,
     b: &PosedShape,
     margin: f64,
-    hint: Option<SeparatingFeature>,
+    hint: Option<PairFeature>,
     contacts: &mut Contacts,
-) -> Option<SeparatingFeature> {
+) -> Option<PairFeature> {
     // Both are checked before either is built: a box against a cylinder builds nothing.
     if a.shape.is_polyhedral() && b.shape.is_polyhedral() {
-        if let Some(feature) = hint
+        if let Some(PairFeature::Apart(feature)) = hint
             && feature.still_separates(a, b, margin)
         {
-            return Some(feature);
+            return hint;
         }
+        let touched = match hint {
+            Some(PairFeature::Touching(feature)) => Some(feature),
+            _ => None,
+        };
         // The polyhedra are matched by reference where they are built: they are large,
         // and moving them out of the pair would copy them.
         if let (Some(pa), Some(pb)) = (&Polyhedron::of(a), &Polyhedron::of(b)) {
-            if let Some(axis) = polyhedron_contacts(pa, pb, margin, contacts) {
-                return Some(axis.feature());
-            }
-            if contacts.is_empty() {
+            let found = polyhedron_contacts(pa, pb, margin, touched, contacts);
+            if contacts.is_empty() && matches!(found, PairFeature::Touching(_)) {
                 // Clipping can cut away a whole incident face when a face axis was
                 // preferred over a slightly better edge axis; the closest pair still makes
                 // one contact.
                 contacts.extend(closest_contact(a, b, margin));
             }
-            return None;
+            return Some(found);
         }
     }
     // Empty only when the closest pair is beyond the margin: no second search for it.
@@ -437,42 +450,82 @@ impl Axis {
 /// choice does not flicker between nearly equal axes from one step to the next.
 const AXIS_PREFERENCE: f64 = 1e-3;
 
-/// Adds to `contacts` (empty on entry); returns the axis that separates the two farther
-/// than `margin`, if one does (and then adds nothing).
+/// How much the separation along the feature a touching pair's contacts were last clipped
+/// from may have changed since its last full search for the feature to be clipped from
+/// again without a search, m. As `REUSE_DISTANCE`: the pair has barely moved along it.
+pub const FEATURE_TOLERANCE: f64 = REUSE_DISTANCE;
+
+/// Adds to `contacts` (empty on entry); returns the feature whose axis separates the two
+/// farther than `margin` (and then adds nothing), or the one the contacts were clipped from.
+///
+/// `touched`, the feature the last contacts were clipped from, is clipped from again without
+/// a search while the separation along it stays within `FEATURE_TOLERANCE` of what the last
+/// full search measured: the pair has not turned or slid far enough for another feature to
+/// be much better. The full search's separation is kept, so that drift does not add up.
 fn polyhedron_contacts(
     a: &Polyhedron,
     b: &Polyhedron,
     margin: f64,
+    touched: Option<ContactFeature>,
     contacts: &mut Contacts,
-) -> Option<Axis> {
-    let (size_a, size_b) = (a.size(), b.size());
-    let slop = AXIS_PREFERENCE * size_a.min(size_b);
-    let reach = a.centroid.length() + size_a + b.centroid.length() + size_b;
-    let bound_slack = BOUND_ROUND_OFF * reach;
-    let face_a = best_face_axis(a, b, true, bound_slack);
-    if face_a.separation() > margin {
-        return Some(face_a);
+) -> PairFeature {
+    if let Some(feature) = touched
+        && let Some(axis) = feature_axis(a, b, feature.feature)
+        && axis.separation() <= margin
+        && (axis.separation() - feature.separation).abs() <= FEATURE_TOLERANCE
+    {
+        clip_along(a, b, axis, margin, contacts);
+        if !contacts.is_empty() {
+            return PairFeature::Touching(feature);
+        }
     }
-    let face_b = best_face_axis(b, a, false, bound_slack);
-    if face_b.separation() > margin {
-        return Some(face_b);
+    match best_axis(a, b, margin) {
+        Ok(separating) => PairFeature::Apart(separating.feature()),
+        Err(best) => {
+            clip_along(a, b, best, margin, contacts);
+            PairFeature::Touching(ContactFeature {
+                feature: best.feature(),
+                separation: best.separation(),
+            })
+        }
     }
-    let mut best = if face_b.separation() > face_a.separation() + slop {
-        face_b
-    } else {
-        face_a
+}
+
+/// The feature's axis with the separation along it in the current poses; None when the
+/// polyhedra have no such feature (a stale or hand-edited memory) or an edge pair no longer
+/// faces each other on the Gauss map.
+fn feature_axis(a: &Polyhedron, b: &Polyhedron, feature: SeparatingFeature) -> Option<Axis> {
+    let facing = |owner: &Polyhedron, other: &Polyhedron, k: u32, of_a: bool| {
+        let face = owner.faces.get(k as usize)?;
+        Some(Axis::Face {
+            of_a,
+            face: k as usize,
+            separation: -other.support_value(-face.normal) - face.offset,
+        })
     };
-    // An edge pair no farther apart than this neither separates the shapes nor beats `best`.
-    let floor = margin.min(best.separation() + slop);
-    if let Some(edges) = best_edge_axis(a, b, floor, bound_slack) {
-        if edges.separation() > margin {
-            return Some(edges);
-        }
-        if edges.separation() > best.separation() + slop {
-            best = edges;
+    match feature {
+        SeparatingFeature::FaceOfA(k) => facing(a, b, k, true),
+        SeparatingFeature::FaceOfB(k) => facing(b, a, k, false),
+        SeparatingFeature::Edges(i, j) => {
+            let (i, j) = (i as usize, j as usize);
+            let [f0, f1] = (*a.edge_faces.get(i)?)?;
+            let [g0, g1] = (*b.edge_faces.get(j)?)?;
+            let arc_a = GaussArc::new(a.faces[f0].normal, a.faces[f1].normal);
+            let arc_b = GaussArc::new(-b.faces[g0].normal, -b.faces[g1].normal);
+            if !arcs_cross(&arc_a, &arc_b) {
+                return None;
+            }
+            let mut axis = None;
+            keep_better_edge_axis(&mut axis, a, i, b, j);
+            axis
         }
     }
-    match best {
+}
+
+/// Contacts along `axis`: the incident face clipped by the reference face, or the closest
+/// points of two edges.
+fn clip_along(a: &Polyhedron, b: &Polyhedron, axis: Axis, margin: f64, contacts: &mut Contacts) {
+    match axis {
         Axis::Face {
             of_a: true, face, ..
         } => clip_contacts(a, face, b, true, margin, contacts),
@@ -486,7 +539,39 @@ fn polyhedron_contacts(
             separation,
         } => contacts.push(edge_contact(a, edge_a, b, edge_b, axis, separation)),
     }
-    None
+}
+
+/// The full search: Ok with an axis that separates the two farther than `margin`, or Err
+/// with the best axis to clip along.
+fn best_axis(a: &Polyhedron, b: &Polyhedron, margin: f64) -> Result<Axis, Axis> {
+    let (size_a, size_b) = (a.size(), b.size());
+    let slop = AXIS_PREFERENCE * size_a.min(size_b);
+    let reach = a.centroid.length() + size_a + b.centroid.length() + size_b;
+    let bound_slack = BOUND_ROUND_OFF * reach;
+    let face_a = best_face_axis(a, b, true, bound_slack);
+    if face_a.separation() > margin {
+        return Ok(face_a);
+    }
+    let face_b = best_face_axis(b, a, false, bound_slack);
+    if face_b.separation() > margin {
+        return Ok(face_b);
+    }
+    let mut best = if face_b.separation() > face_a.separation() + slop {
+        face_b
+    } else {
+        face_a
+    };
+    // An edge pair no farther apart than this neither separates the shapes nor beats `best`.
+    let floor = margin.min(best.separation() + slop);
+    if let Some(edges) = best_edge_axis(a, b, floor, bound_slack) {
+        if edges.separation() > margin {
+            return Ok(edges);
+        }
+        if edges.separation() > best.separation() + slop {
+            best = edges;
+        }
+    }
+    Err(best)
 }
 
 /// How far a bound on a separation, computed in f64, may fall below the separation as the
@@ -1283,6 +1368,7 @@ pub(crate) mod tests {
     use proptest::prelude::*;
 
     use super::*;
+    use crate::physics::geometry::epa::signed_distance;
     use crate::physics::geometry::hull::faces_at_edges;
 
     /// Uniform-ish unit quaternions (rejecting the short ones before normalising).
@@ -1388,6 +1474,77 @@ pub(crate) mod tests {
             let every = best_edge_axis(&a, &b, f64::NEG_INFINITY, slack);
             let floored = best_edge_axis(&a, &b, floor, slack);
             same_above_floor(floored, every, floor)?;
+        }
+    }
+
+    /// The full search's contacts and the feature they were clipped from.
+    fn full_search(
+        a: &PosedShape,
+        b: &PosedShape,
+        margin: f64,
+    ) -> (Contacts, Option<ContactFeature>) {
+        let mut contacts = Contacts::new();
+        let found = convex_contacts(a, b, margin, None, &mut contacts);
+        let feature = match found {
+            Some(PairFeature::Touching(feature)) => Some(feature),
+            _ => None,
+        };
+        (contacts, feature)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        /// Clipping again from the feature of the last full search. At the same poses it
+        /// gives the full search's contacts. After a small move it is taken only while the
+        /// separation along the feature stays within `FEATURE_TOLERANCE` of the full
+        /// search's, and that separation then lies between the true signed distance (found
+        /// by EPA) at the last search less the tolerance and the axis preference, and the
+        /// true signed distance now (no axis shows more than the true overlap).
+        #[test]
+        fn contacts_clipped_from_the_last_feature_stay_within_the_tolerance(
+            shape_a in hull(),
+            shape_b in hull(),
+            turn_a in unit_quat(),
+            turn_b in unit_quat(),
+            offset in (-1.5..1.5f64, -1.5..1.5f64, -1.5..1.5f64),
+            shift in (-3e-3..3e-3f64, -3e-3..3e-3f64, -3e-3..3e-3f64),
+            twist in (-5e-3..5e-3f64, -5e-3..5e-3f64, -5e-3..5e-3f64),
+        ) {
+            let margin = 0.02;
+            let posed_a = PosedShape::new(&shape_a, DVec3::ZERO, DMat3::from_quat(turn_a));
+            let offset = DVec3::new(offset.0, offset.1, offset.2);
+            let before = PosedShape::new(&shape_b, offset, DMat3::from_quat(turn_b));
+            let then = signed_distance(&posed_a, &before).distance;
+            let (contacts, feature) = full_search(&posed_a, &before, margin);
+            prop_assume!(then < 0.0 && feature.is_some());
+            let feature = feature.expect("assumed");
+            let hint = Some(PairFeature::Touching(feature));
+
+            let mut again = Contacts::new();
+            let found = convex_contacts(&posed_a, &before, margin, hint, &mut again);
+            prop_assert_eq!(found, hint);
+            prop_assert_eq!(again.to_vec(), contacts.to_vec());
+
+            let turn = DQuat::from_scaled_axis(DVec3::new(twist.0, twist.1, twist.2)) * turn_b;
+            let moved = offset + DVec3::new(shift.0, shift.1, shift.2);
+            let after = PosedShape::new(&shape_b, moved, DMat3::from_quat(turn));
+            let mut clipped = Contacts::new();
+            let found = convex_contacts(&posed_a, &after, margin, hint, &mut clipped);
+            if found == hint {
+                let pa = Polyhedron::of(&posed_a).expect("a hull");
+                let pb = Polyhedron::of(&after).expect("a hull");
+                let axis = feature_axis(&pa, &pb, feature.feature).expect("taken");
+                let now = signed_distance(&posed_a, &after).distance;
+                let preference = AXIS_PREFERENCE * pa.size().min(pb.size());
+                let (low, high) = (then - FEATURE_TOLERANCE - preference, now);
+                prop_assert!(
+                    axis.separation() >= low - 1e-6 && axis.separation() <= high + 1e-6,
+                    "{:?}: separation {} outside {}..{}", feature, axis.separation(), low, high
+                );
+                prop_assert!(!clipped.is_empty());
+                prop_assert!(clipped.iter().all(|c| c.separation <= margin));
+            }
         }
     }
 

@@ -22,7 +22,9 @@ use smallvec::SmallVec;
 use crate::physics::collision::contact::{
     Contact, ContactKind, ContactManifold, FeatureId, MAX_MANIFOLD_POINTS,
 };
-use crate::physics::collision::separating_axis::{SeparatedPair, SeparatingFeature};
+use crate::physics::collision::separating_axis::{
+    ContactFeature, SeparatedPair, SeparatingFeature,
+};
 use crate::physics::collision::sorted_seek;
 use crate::physics::dynamics::body::{BodyId, RigidBody};
 
@@ -94,12 +96,22 @@ pub struct RememberedManifold {
     /// The margin it was generated with: every feature it left out was farther apart.
     margin: f64,
     contacts: SmallVec<[RememberedContact; MAX_MANIFOLD_POINTS]>,
+    /// For two polyhedra, the feature the contacts were clipped from, tried first when the
+    /// manifold cannot be carried (absent from snapshots written before it was kept).
+    #[serde(default)]
+    pub feature: Option<ContactFeature>,
 }
 
 impl RememberedManifold {
     /// `manifold`, just generated with `margin` for the bodies `a` and `b` in their current
-    /// poses.
-    pub fn of(manifold: &ContactManifold, a: &RigidBody, b: &RigidBody, margin: f64) -> Self {
+    /// poses, from `feature` when they are polyhedra.
+    pub fn of(
+        manifold: &ContactManifold,
+        a: &RigidBody,
+        b: &RigidBody,
+        margin: f64,
+        feature: Option<ContactFeature>,
+    ) -> Self {
         let to_a = a.orientation.transpose();
         let to_b = b.orientation.transpose();
         let (origin_a, origin_b) = (a.shape_origin(), b.shape_origin());
@@ -116,6 +128,7 @@ impl RememberedManifold {
             pose: RelativePose::of(a, origin_a, b, origin_b),
             margin,
             contacts: contacts.collect(),
+            feature,
         }
     }
 
@@ -182,6 +195,7 @@ impl RememberedManifold {
     fn is_finite(&self) -> bool {
         let pose = &self.pose;
         self.margin.is_finite()
+            && self.feature.is_none_or(|f| f.separation.is_finite())
             && pose.rotation.is_finite()
             && pose.b_in_a.is_finite()
             && pose.a_in_b.is_finite()
@@ -369,7 +383,7 @@ mod tests {
             floor(),
             body(BodyDesc::dynamic(Shape::sphere(0.5)).at(DVec3::Y * 0.49)),
         );
-        let one = RememberedManifold::of(&generated(&a, &b), &a, &b, 0.02);
+        let one = RememberedManifold::of(&generated(&a, &b), &a, &b, 0.02, None);
         // Pairs (i, j) for i < 30 and every third j above it.
         let keys: Vec<(u32, u32)> = (0..30)
             .flat_map(|i| (i + 1..40).filter(|j| j % 3 == 0).map(move |j| (i, j)))
@@ -419,7 +433,7 @@ mod tests {
         b_now: &RigidBody,
         tolerance: f64,
     ) {
-        let remembered = RememberedManifold::of(&generated(a, b), a, b, 0.02);
+        let remembered = RememberedManifold::of(&generated(a, b), a, b, 0.02, None);
         let carried = remembered
             .carried(a, b_now, 0.02, 0.0)
             .expect("close enough to carry");
@@ -481,7 +495,7 @@ mod tests {
         let b = body(
             BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.5))).at(DVec3::new(0.0, 0.499, 0.0)),
         );
-        let remembered = RememberedManifold::of(&generated(&a, &b), &a, &b, 0.02);
+        let remembered = RememberedManifold::of(&generated(&a, &b), &a, &b, 0.02, None);
         let slid = moved(&b, DVec3::new(2.5e-3, 0.0, 0.0), DQuat::IDENTITY);
         assert!(remembered.carried(&a, &slid, 0.02, 0.0).is_none());
         // 3 mrad turns the corners, 0.87 m out, by 2.6 mm.
@@ -506,7 +520,7 @@ mod tests {
         let remembered = |x: u32, y: u32| RememberedManifold {
             body_a: BodyId(x),
             body_b: BodyId(y),
-            ..RememberedManifold::of(&generated(&a, &b), &a, &b, 0.02)
+            ..RememberedManifold::of(&generated(&a, &b), &a, &b, 0.02, None)
         };
         let mut memory = ManifoldMemory::new(Remembered {
             manifolds: vec![remembered(0, 1), remembered(0, 2), remembered(1, 3)],

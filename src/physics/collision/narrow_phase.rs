@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use crate::physics::collision::broad_phase::{BodyPair, Proxy};
 use crate::physics::collision::closing_speed::{Clusters, PairReach, surface_speed};
 use crate::physics::collision::contact::ContactManifold;
-use crate::physics::collision::manifold::{PairOutcome, push_contact_manifold};
+use crate::physics::collision::manifold::{PairFeature, PairOutcome, push_contact_manifold};
 use crate::physics::collision::manifold_memory::{ManifoldMemory, Remembered, RememberedManifold};
 use crate::physics::collision::separating_axis::SeparatedPair;
 use crate::physics::dynamics::body::{Motion, RigidBody};
@@ -192,12 +192,16 @@ impl Found {
         if !bounding_spheres_within(a, b, radii, margin) {
             return;
         }
-        let hint = memory.separating_feature(pair.a, pair.b, &mut cursors.separated);
+        let hint = match remembered {
+            Some(remembered) => remembered.feature.map(PairFeature::Touching),
+            None => (memory.separating_feature(pair.a, pair.b, &mut cursors.separated))
+                .map(PairFeature::Apart),
+        };
         match push_contact_manifold((a, pair.a), (b, pair.b), margin, hint, &mut self.manifolds) {
-            PairOutcome::Touching => {
+            PairOutcome::Touching(feature) => {
                 let manifold = self.manifolds.last().expect("just pushed");
                 let manifolds = &mut self.remembered.manifolds;
-                manifolds.push(RememberedManifold::of(manifold, a, b, margin));
+                manifolds.push(RememberedManifold::of(manifold, a, b, margin, feature));
             }
             PairOutcome::Apart(Some(feature)) => {
                 self.remembered.separated.push(SeparatedPair {

@@ -7,6 +7,11 @@
 //! The check is sound whatever the bodies did meanwhile: the gap along any axis, measured
 //! with the exact support functions, is a lower bound on the distance, so a pair it finds
 //! farther apart than the margin has no contact, as the full search would have found.
+//!
+//! A touching pair remembers the feature its contacts were clipped from instead
+//! (`ContactFeature`, kept with its manifold), and is clipped from it again without a search
+//! while the separation along it stays near what the last full search measured
+//! (`manifold::FEATURE_TOLERANCE`).
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -85,6 +90,14 @@ impl SeparatingFeature {
             }
         }
     }
+}
+
+/// The feature of two polyhedra their contacts were clipped from by a full search, with the
+/// separation along its axis then (negative: overlapping), m.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactFeature {
+    pub feature: SeparatingFeature,
+    pub separation: f64,
 }
 
 /// Relative round-off allowed between this check and the full search, over the distances
@@ -169,7 +182,9 @@ mod tests {
     use super::*;
     use crate::physics::collision::contact::ManifoldPoints;
     use crate::physics::collision::manifold::tests::unit_quat;
-    use crate::physics::collision::manifold::{add_manifold_points, generate_contacts};
+    use crate::physics::collision::manifold::{
+        PairFeature, add_manifold_points, generate_contacts,
+    };
     use crate::physics::geometry::epa::signed_distance;
     use crate::physics::geometry::hull::ConvexHull;
 
@@ -275,7 +290,9 @@ mod tests {
                 }
             }
             let mut points = ManifoldPoints::new();
-            if let Some(found) = add_manifold_points(&a, &b, margin, None, &mut points) {
+            if let Some(PairFeature::Apart(found)) =
+                add_manifold_points(&a, &b, margin, None, &mut points)
+            {
                 prop_assert!(points.is_empty());
                 let gap = gap_along(found, &a, &b);
                 prop_assert!(gap > margin - 1e-9, "{:?}: gap {} within {}", found, gap, margin);
