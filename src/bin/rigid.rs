@@ -22,7 +22,7 @@ mod desktop {
     use rigid::render::Overlays;
     use rigid::render::gpu::Gpu;
     use rigid::render::headless;
-    use rigid::sim::{DEFAULT_SCENE, scene_names};
+    use rigid::sim::{DEFAULT_SCENE, FileCommands, scene_names};
 
     #[derive(Parser)]
     #[command(version, about = "Real-time rigid-body physics viewer")]
@@ -39,6 +39,11 @@ mod desktop {
         /// Replay a recording saved from the panel ("Save recording").
         #[arg(long, conflicts_with = "scene")]
         replay: Option<PathBuf>,
+        /// Let the replay run the recording's commands that save or load files (SaveWorld,
+        /// SaveRecording, LoadWorld, LoadScene of a file); without it such a recording is
+        /// refused.
+        #[arg(long, requires = "replay")]
+        allow_file_commands: bool,
         #[command(subcommand)]
         command: Option<Command>,
     }
@@ -97,6 +102,11 @@ mod desktop {
                 exit_after: cli.exit_after,
                 screenshot: cli.screenshot,
                 replay: cli.replay,
+                replay_files: if cli.allow_file_commands {
+                    FileCommands::Allow
+                } else {
+                    FileCommands::Refuse
+                },
             }),
         };
         match result {
