@@ -574,3 +574,44 @@ fn a_closed_stdout_costs_neither_the_snapshot_nor_a_panic() {
     let saved = rigid::sim::SavedWorld::load(&snapshot).unwrap();
     assert_eq!(saved.world.steps, 300);
 }
+
+#[test]
+fn a_negative_dt_reaches_the_validator() {
+    let out = headless(&["--dt", "-0.01", "--steps", "1"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--dt must lie in [0.000001, 0.1] s, got -0.01"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_local_file_named_like_a_built_in_scene_is_noted() {
+    let dir = scratch("shadowing");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(free_fall_scene("shadow_source.ron"), dir.join("stack")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_headless"))
+        .args(["--scene", "stack", "--steps", "1"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("note: 'stack' is the built-in scene; the file 'stack' here is not read (name it ./stack to load it)"),
+        "{stderr}"
+    );
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("scene            stack (scenes/stack.ron)")
+    );
+    // Spelled as a path, the file is what runs.
+    let out = Command::new(env!("CARGO_BIN_EXE_headless"))
+        .args(["--scene", "./stack", "--steps", "1"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    assert!(out.stderr.is_empty(), "{out:?}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("scene            free_fall (./stack)"));
+}

@@ -31,7 +31,7 @@ struct Args {
     #[arg(long, default_value_t = 1000)]
     steps: u64,
     /// Time step in seconds (default: the scene's).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     dt: Option<f64>,
     /// Integrator (default: the scene's).
     #[arg(long, value_enum)]

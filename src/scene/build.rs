@@ -129,10 +129,12 @@ impl Scene {
             }
             MaterialRef::Named(name) => self.materials.get(name).copied().ok_or_else(|| {
                 let known: Vec<&str> = self.materials.keys().map(String::as_str).collect();
-                FieldError::new(
-                    "material",
-                    format!("unknown material '{name}' (defined: {})", known.join(", ")),
-                )
+                let defined = if known.is_empty() {
+                    "the scene defines no materials".to_owned()
+                } else {
+                    format!("defined: {}", known.join(", "))
+                };
+                FieldError::new("material", format!("unknown material '{name}' ({defined})"))
             }),
         }
     }
