@@ -124,6 +124,11 @@ fn bad_snapshots_are_refused_with_the_file_and_body_named() {
         matches!(error, SnapshotError::Inconsistent { .. }),
         "{error}"
     );
+    let text = error.to_string();
+    assert!(
+        text.ends_with("bodies: 2 listed, but the broad phase holds 3 (a body is missing)"),
+        "{text}"
+    );
 
     let error = edited(|s| s.settings.solver.substeps = 4_000_000_000).unwrap_err();
     assert!(error.to_string().contains("solver.substeps"), "{error}");

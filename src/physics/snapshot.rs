@@ -180,7 +180,7 @@ impl WorldSnapshot {
         }
         if self.proxies.len() > count {
             return Err(inconsistent(format!(
-                "{} broad-phase proxies for {count} bodies",
+                "bodies: {count} listed, but the broad phase holds {} (a body is missing)",
                 self.proxies.len()
             )));
         }
