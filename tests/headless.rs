@@ -1,7 +1,7 @@
 //! The headless runner, run as a separate process: its state output against the closed form of
 //! semi-implicit Euler free fall, and its exit code and message on bad input.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 const G: f64 = 9.81;
@@ -225,7 +225,7 @@ fn read(path: &PathBuf) -> String {
 }
 
 /// The world of a file written by --save-snapshot, as snapshot text.
-fn saved_world_text(path: &PathBuf) -> String {
+fn saved_world_text(path: &Path) -> String {
     rigid::sim::SavedWorld::load(path).unwrap().world.to_ron()
 }
 

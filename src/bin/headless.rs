@@ -92,9 +92,6 @@ fn main() -> ExitCode {
 
 fn run(args: &Args) -> Result<(), String> {
     refuse_overwriting_inputs(args)?;
-    if let Some(note) = scene::shadowed_file_note(&args.scene) {
-        eprintln!("note: {note}");
-    }
     if let Some(path) = &args.replay {
         return replay(args, path);
     }
@@ -124,14 +121,17 @@ fn run(args: &Args) -> Result<(), String> {
     }
     output.finish()?;
     let wall = started.elapsed().as_secs_f64();
-    let saved = SavedWorld {
-        scene: start.scene,
-        dt,
-        hidden: start.hidden,
-        materials: start.materials,
-        world: world.to_snapshot(),
-    };
-    save_snapshot(args, &saved)?;
+    // Saved before the summary is printed, so that a closed stdout never costs the file.
+    if let Some(path) = &args.save_snapshot {
+        let saved = SavedWorld {
+            scene: start.scene,
+            dt,
+            hidden: start.hidden,
+            materials: start.materials,
+            world: world.to_snapshot(),
+        };
+        saved.save(path)?;
+    }
     print_summary(&start.label, &world, dt, wall, &initial)
 }
 
@@ -191,6 +191,9 @@ struct Start {
 
 impl Start {
     fn from_scene(name: &str) -> Result<Start, String> {
+        if let Some(note) = scene::shadowed_file_note(name) {
+            eprintln!("note: {note}");
+        }
         let scene = scene::load(name).map_err(|error| error.to_string())?;
         Ok(Start {
             world: scene.build_world().map_err(|error| error.to_string())?,
@@ -217,14 +220,17 @@ impl Start {
                     Err(SnapshotError::Unreadable { .. }) => return Err(saved_error),
                     Err(error) => return Err(error.to_string()),
                 };
-                let from_scene = Start::from_scene(scene)?;
+                let dt = scene::load(scene)
+                    .map_err(|error| error.to_string())?
+                    .settings
+                    .dt;
                 eprintln!(
                     "note: {file} holds no scene or dt (written by an older build); \
                      taking them from --scene {scene}"
                 );
                 SavedWorld {
-                    scene: from_scene.scene,
-                    dt: from_scene.dt,
+                    scene: scene.to_string(),
+                    dt,
                     hidden: Vec::new(),
                     materials: Vec::new(),
                     world: snapshot,
@@ -260,17 +266,11 @@ fn replay(args: &Args, path: &Path) -> Result<(), String> {
         sim.step();
     }
     let wall = started.elapsed().as_secs_f64();
-    save_snapshot(args, &sim.saved_world())?;
+    if let Some(path) = &args.save_snapshot {
+        sim.saved_world().save(path)?;
+    }
     let label = format!("{} ({})", scene.name, scene.origin);
     print_summary(&label, sim.world(), sim.settings().dt, wall, &initial)
-}
-
-/// Saved before the summary is printed, so that a closed stdout never costs the file.
-fn save_snapshot(args: &Args, saved: &SavedWorld) -> Result<(), String> {
-    match &args.save_snapshot {
-        Some(path) => saved.save(path),
-        None => Ok(()),
-    }
 }
 
 enum Format {
