@@ -9,8 +9,8 @@ use std::path::Path;
 /// maximum 100 000 bodies, takes about 200 MB of text.
 pub const MAX_INPUT_BYTES: u64 = 256 * 1024 * 1024;
 
-/// The file's text, or an error when it is not a regular file, is larger than
-/// `MAX_INPUT_BYTES` or cannot be read as UTF-8.
+/// The file's text without a leading byte-order mark, or an error when it is not a regular
+/// file, is larger than `MAX_INPUT_BYTES` or cannot be read as UTF-8.
 pub fn read_text(path: &Path) -> Result<String, Error> {
     let metadata = std::fs::metadata(path)?;
     if !metadata.is_file() {
@@ -23,5 +23,10 @@ pub fn read_text(path: &Path) -> Result<String, Error> {
         );
         return Err(Error::new(ErrorKind::InvalidInput, message));
     }
-    std::fs::read_to_string(path)
+    let text = std::fs::read_to_string(path)?;
+    // Some editors start UTF-8 files with a byte-order mark, which no parser here expects.
+    Ok(match text.strip_prefix('\u{feff}') {
+        Some(rest) => rest.to_owned(),
+        None => text,
+    })
 }

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use glam::DVec3;
 use rigid::physics::{BroadPhaseKind, Integrator, Pipeline};
-use rigid::sim::{Command, Recording, Simulation, SpawnKind};
+use rigid::sim::{Command, FileCommands, Recording, Simulation, SpawnKind};
 
 /// A user session: spawns of every kind, pushes, live setting changes, a pipeline switch,
 /// a single step while paused, a reset and a scene change.
@@ -124,7 +124,8 @@ fn replaying_a_recording_file_reproduces_the_run() {
     live.recording().save(&path).unwrap();
     let recording = Recording::load(&path).unwrap();
     assert_eq!(recording, live.recording());
-    let mut replayed = Simulation::replaying(&recording).unwrap();
+    let mut replayed =
+        Simulation::replaying(&recording, "recording", FileCommands::Refuse).unwrap();
     while replayed.ticks() < recording.ticks {
         replayed.step();
     }
@@ -158,11 +159,12 @@ fn a_saved_world_continues_as_if_never_stopped() {
 #[test]
 fn bad_recordings_and_saved_worlds_are_reported() {
     let error = Recording::from_ron("(scene: \"x\", ticks: 1, commands: [], extra: 2)", "r.ron");
-    assert!(error.unwrap_err().starts_with("r.ron"));
+    assert!(error.unwrap_err().to_string().starts_with("r.ron"));
     let late = "(scene: \"x\", ticks: 1, commands: [(tick: 5, command: Reset)])";
     assert!(
         Recording::from_ron(late, "r.ron")
             .unwrap_err()
+            .to_string()
             .contains("after the end")
     );
 

@@ -13,7 +13,7 @@ use rigid::physics::{
     BodyDesc, EnvironmentForce, MAX_STEP, Material, Motion, Shape, StepError, World, WorldSnapshot,
 };
 use rigid::scene;
-use rigid::sim::{Recording, Simulation};
+use rigid::sim::{FileCommands, Recording, Simulation};
 
 fn cases(default: u32) -> u32 {
     std::env::var("FUZZ_CASES")
@@ -160,7 +160,7 @@ proptest! {
             return Ok(());
         };
         // A recording may name any scene or file: that is an error, not a panic.
-        if let Ok(mut sim) = Simulation::replaying(&recording) {
+        if let Ok(mut sim) = Simulation::replaying(&recording, "fuzz.ron", FileCommands::Allow) {
             for _ in 0..recording.ticks.min(30) {
                 sim.step();
             }

@@ -1,7 +1,7 @@
 //! The headless runner, run as a separate process: its state output against the closed form of
 //! semi-implicit Euler free fall, and its exit code and message on bad input.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 const G: f64 = 9.81;
@@ -224,6 +224,11 @@ fn read(path: &PathBuf) -> String {
     std::fs::read_to_string(path).unwrap()
 }
 
+/// The world of a file written by --save-snapshot, as snapshot text.
+fn saved_world_text(path: &Path) -> String {
+    rigid::sim::SavedWorld::load(path).unwrap().world.to_ron()
+}
+
 #[test]
 fn separate_processes_agree_bit_for_bit_and_resume_from_snapshots() {
     let [whole, again, half, resumed] =
@@ -272,7 +277,10 @@ fn replay_in_another_process_matches_the_live_run() {
         "--save-snapshot",
         replayed.to_str().unwrap(),
     ]);
-    assert_eq!(read(&replayed), live.world().to_snapshot().to_ron());
+    assert_eq!(
+        saved_world_text(&replayed),
+        live.world().to_snapshot().to_ron()
+    );
 }
 
 #[test]
@@ -318,5 +326,292 @@ fn a_world_saved_by_the_viewer_continues_headless_at_its_own_dt() {
         "--save-snapshot",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(read(&out), live.world().to_snapshot().to_ron());
+    assert_eq!(saved_world_text(&out), live.world().to_snapshot().to_ron());
+}
+
+/// A recording of falling_box whose command 1 is `command` (RON), after a harmless one.
+fn recording_with(name: &str, command: &str) -> PathBuf {
+    write_scene(
+        name,
+        &format!(
+            r#"(scene: "falling_box", ticks: 20, commands: [
+    (tick: 2, command: SetPaused(false)),
+    (tick: 5, command: {command}),
+])"#
+        ),
+    )
+}
+
+#[test]
+fn replay_never_writes_files_unless_allowed() {
+    let victim = scratch("victim.txt");
+    std::fs::write(&victim, "precious").unwrap();
+    let recording = recording_with(
+        "writes.recording.ron",
+        &format!("SaveWorld({:?})", victim.to_str().unwrap()),
+    );
+    let out = headless(&["--replay", recording.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let expected = format!(
+        "{}: command 1 (SaveWorld, tick 5) would access the file '{}'",
+        recording.display(),
+        victim.display()
+    );
+    assert!(stderr.contains(&expected), "{stderr}");
+    assert!(stderr.contains("--allow-file-commands"), "{stderr}");
+    assert_eq!(read(&victim), "precious");
+
+    // The same recording with the user's permission saves the world where it says.
+    run_ok(&[
+        "--replay",
+        recording.to_str().unwrap(),
+        "--allow-file-commands",
+    ]);
+    let saved = rigid::sim::SavedWorld::load(&victim).unwrap();
+    assert_eq!(saved.scene, "falling_box");
+}
+
+#[test]
+fn replay_refuses_load_world_and_scene_files_unless_allowed() {
+    let scene = free_fall_scene("replayed_scene.ron");
+    for (name, command) in [
+        (
+            "loads_world.recording.ron",
+            "LoadWorld(\"/etc/passwd\")".to_owned(),
+        ),
+        (
+            "loads_scene.recording.ron",
+            format!("LoadScene({:?})", scene.to_str().unwrap()),
+        ),
+        (
+            "saves_recording.recording.ron",
+            "SaveRecording(\"x.ron\")".to_owned(),
+        ),
+    ] {
+        let recording = recording_with(name, &command);
+        let out = headless(&["--replay", recording.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{command}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains("command 1 ("), "{stderr}");
+        assert!(stderr.contains("would access the file"), "{stderr}");
+    }
+    // A built-in scene is no file: replaying a change to it needs no permission.
+    let recording = recording_with("loads_builtin.recording.ron", "LoadScene(\"stack\")");
+    run_ok(&["--replay", recording.to_str().unwrap()]);
+}
+
+#[test]
+fn a_recorded_non_finite_dt_is_an_error_naming_the_command() {
+    use rigid::sim::{Recording, RecordingError};
+    for dt in ["NaN", "inf", "-0.01", "0.0", "1e300"] {
+        let recording = recording_with("bad_dt.recording.ron", &format!("SetDt({dt})"));
+        let out = headless(&["--replay", recording.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{dt}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let expected = format!(
+            "{}: command 1 (SetDt, tick 5): dt must lie in",
+            recording.display()
+        );
+        assert!(stderr.contains(&expected), "{dt}: {stderr}");
+        assert!(out.stdout.is_empty(), "{dt}");
+
+        let error = Recording::load(&recording).unwrap_err();
+        assert!(
+            matches!(
+                error,
+                RecordingError::BadCommand {
+                    index: 1,
+                    tick: 5,
+                    command: "SetDt",
+                    ..
+                }
+            ),
+            "{error:?}"
+        );
+    }
+}
+
+#[test]
+fn a_live_non_finite_dt_is_refused_and_the_world_keeps_moving() {
+    use rigid::sim::{Command as SimCommand, Simulation};
+    let mut sim = Simulation::new("falling_box").unwrap();
+    let dt = sim.settings().dt;
+    sim.apply(SimCommand::SetDt(f64::NAN));
+    assert_eq!(sim.settings().dt, dt);
+    let before = sim.world().time();
+    sim.step();
+    assert_eq!(sim.world().time(), before + dt);
+    assert!(
+        sim.recording().commands.is_empty(),
+        "a refused command is not recorded"
+    );
+}
+
+#[test]
+fn an_output_naming_an_input_file_is_refused_before_anything_is_written() {
+    let scene = free_fall_scene("input_scene.ron");
+    let original = read(&scene);
+    // The same file, spelled another way.
+    let dir = scene.parent().unwrap();
+    let respelled = dir.join(".").join(scene.file_name().unwrap());
+    for flag in ["--csv", "--json", "--save-snapshot"] {
+        let out = headless(&[
+            "--scene",
+            scene.to_str().unwrap(),
+            "--steps",
+            "3",
+            flag,
+            respelled.to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{flag}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(&format!("{flag} ")), "{stderr}");
+        assert!(stderr.contains("is the --scene file"), "{stderr}");
+        assert_eq!(read(&scene), original, "{flag} overwrote the scene");
+    }
+
+    let snapshot = scratch("input.snapshot.ron");
+    run_ok(&[
+        "--steps",
+        "2",
+        "--save-snapshot",
+        snapshot.to_str().unwrap(),
+    ]);
+    let saved = read(&snapshot);
+    let out = headless(&[
+        "--from-snapshot",
+        snapshot.to_str().unwrap(),
+        "--csv",
+        snapshot.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("is the --from-snapshot file"));
+    assert_eq!(read(&snapshot), saved);
+    // Resuming in place replaces the snapshot by the continued world.
+    run_ok(&[
+        "--from-snapshot",
+        snapshot.to_str().unwrap(),
+        "--steps",
+        "2",
+        "--save-snapshot",
+        snapshot.to_str().unwrap(),
+    ]);
+    assert_ne!(read(&snapshot), saved);
+}
+
+#[test]
+fn a_resumed_snapshot_keeps_its_dt_and_scene() {
+    let [whole, half, resumed] =
+        ["whole_dt", "half_dt", "resumed_dt"].map(|n| scratch(&format!("{n}.snapshot.ron")));
+    let s = |p: &PathBuf| p.to_str().unwrap().to_owned();
+    let run = ["--scene", "pachinko", "--dt", "0.005", "--steps"];
+    run_ok(&[&run[..], &["100", "--save-snapshot", &s(&whole)]].concat());
+    run_ok(&[&run[..], &["50", "--save-snapshot", &s(&half)]].concat());
+    // Neither --scene nor --dt: both come from the snapshot.
+    let out = headless(&[
+        "--from-snapshot",
+        &s(&half),
+        "--steps",
+        "50",
+        "--save-snapshot",
+        &s(&resumed),
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("scene            pachinko (resumed from"),
+        "{stdout}"
+    );
+    assert!(stdout.contains(", dt 0.005 s"), "{stdout}");
+    assert_eq!(read(&resumed), read(&whole));
+    let saved = rigid::sim::SavedWorld::load(&resumed).unwrap();
+    assert_eq!((saved.scene.as_str(), saved.dt), ("pachinko", 0.005));
+    assert_eq!(saved.world.steps, 100);
+}
+
+#[test]
+fn a_bare_snapshot_from_an_older_build_still_resumes_with_a_note() {
+    let bare = scratch("bare.snapshot.ron");
+    let world = rigid::scene::load("stack").unwrap().build_world().unwrap();
+    std::fs::write(&bare, world.to_snapshot().to_ron()).unwrap();
+    let out = headless(&[
+        "--scene",
+        "stack",
+        "--from-snapshot",
+        bare.to_str().unwrap(),
+        "--steps",
+        "3",
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("holds no scene or dt"), "{stderr}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("scene            stack (resumed from"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn a_closed_stdout_costs_neither_the_snapshot_nor_a_panic() {
+    use std::process::Stdio;
+    let snapshot = scratch("piped.snapshot.ron");
+    let _ = std::fs::remove_file(&snapshot);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_headless"))
+        .args(["--scene", "pachinko", "--steps", "300", "--save-snapshot"])
+        .arg(&snapshot)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run headless");
+    // The reader goes away long before the 300 steps are done, as `| true` does.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let saved = rigid::sim::SavedWorld::load(&snapshot).unwrap();
+    assert_eq!(saved.world.steps, 300);
+}
+
+#[test]
+fn a_negative_dt_reaches_the_validator() {
+    let out = headless(&["--dt", "-0.01", "--steps", "1"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--dt must lie in [0.000001, 0.1] s, got -0.01"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_local_file_named_like_a_built_in_scene_is_noted() {
+    let dir = scratch("shadowing");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(free_fall_scene("shadow_source.ron"), dir.join("stack")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_headless"))
+        .args(["--scene", "stack", "--steps", "1"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("note: 'stack' is the built-in scene; the file 'stack' here is not read (name it ./stack to load it)"),
+        "{stderr}"
+    );
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("scene            stack (scenes/stack.ron)")
+    );
+    // Spelled as a path, the file is what runs.
+    let out = Command::new(env!("CARGO_BIN_EXE_headless"))
+        .args(["--scene", "./stack", "--steps", "1"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    assert!(out.stderr.is_empty(), "{out:?}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("scene            free_fall (./stack)"));
 }

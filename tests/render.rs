@@ -395,3 +395,46 @@ fn sleeping_bodies_are_drawn_in_the_sleep_colour_only_when_on() {
         "{plain} sleep-coloured pixels with the tint off"
     );
 }
+
+/// Sizes wgpu cannot draw are refused with exit code 2 before any device is opened, so this
+/// needs no adapter.
+#[test]
+fn the_render_command_refuses_impossible_sizes_with_exit_code_2() {
+    let output_path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("render-bad-size.png");
+    for (flag, value) in [
+        ("--width", "0"),
+        ("--width", "100000"),
+        ("--height", "4294967295"),
+        ("--height", "-1"),
+    ] {
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_rigid"))
+            .arg("render")
+            .arg(&output_path)
+            .args([flag, value])
+            .output()
+            .expect("run rigid render");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{flag} {value}: {stderr}");
+        assert!(stderr.contains(flag), "{flag} {value}: {stderr}");
+        assert!(stderr.contains("[1, 16384]"), "{flag} {value}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{flag} {value}: {stderr}");
+        assert!(!output_path.exists());
+    }
+}
+
+#[test]
+fn render_snapshot_refuses_sizes_the_adapter_cannot_draw() {
+    let gpu = gpu();
+    let snapshot = simulate("falling_box", 0);
+    let max = gpu.device.limits().max_texture_dimension_2d;
+    for size in [(0, 10), (10, 0), (max + 1, 10), (10, u32::MAX)] {
+        let error = headless::render_snapshot(&gpu, &snapshot, Overlays::default(), size)
+            .expect_err("an impossible size");
+        assert!(
+            error.contains(&format!("must lie in [1, {max}]")),
+            "{size:?}: {error}"
+        );
+    }
+    let image = headless::render_snapshot(&gpu, &snapshot, Overlays::default(), (1, 1)).unwrap();
+    assert_eq!(image.dimensions(), (1, 1));
+}

@@ -590,3 +590,38 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_field_given_twice_names_the_body_and_the_field_not_a_rust_type() {
+    let message =
+        body_error(r#"name: "ball", shape: Sphere(radius: 1.0), shape: Sphere(radius: 2.0)"#);
+    assert_names(&message, "'ball'", "shape");
+    assert!(message.ends_with("given twice"), "{message}");
+    assert!(!message.contains("BodySpec"), "{message}");
+    // A second name still leaves the first to name the body by.
+    let message = body_error(r#"name: "ball", name: "other", shape: Sphere(radius: 1.0)"#);
+    assert_names(&message, "'ball'", "name");
+}
+
+#[test]
+fn a_byte_order_mark_at_the_start_of_a_scene_file_is_skipped() {
+    let path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bom.ron");
+    let text = scene_with("", r#"name: "ball", shape: Sphere(radius: 1.0)"#);
+    std::fs::write(&path, format!("\u{feff}{text}")).unwrap();
+    let scene = scene::load_file(&path).unwrap();
+    assert_eq!(scene.name, "test");
+    assert_eq!(scene.build_world().unwrap().bodies().len(), 2);
+}
+
+#[test]
+fn an_unknown_material_in_a_scene_without_materials_says_so() {
+    let text = r#"Scene(name: "bare", bodies: [(name: "ball", shape: Sphere(radius: 1.0), material: "steel")])"#;
+    let message = parse_error(text);
+    assert_names(&message, "'ball'", "material");
+    assert!(
+        message.ends_with("unknown material 'steel' (the scene defines no materials)"),
+        "{message}"
+    );
+    let message = body_error(r#"name: "ball", shape: Sphere(radius: 1.0), material: "steel""#);
+    assert!(message.ends_with("(defined: rubber)"), "{message}");
+}

@@ -2,7 +2,7 @@
 //! never stopped, in both pipelines, with sleeping and isolated bodies; bad snapshot files give
 //! errors that name the file and the body.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use rigid::physics::{
     BodyDesc, EnvironmentForce, MAX_BODIES, Pipeline, Shape, SnapshotError, World, WorldSnapshot,
 };
@@ -113,8 +113,8 @@ fn bad_snapshots_are_refused_with_the_file_and_body_named() {
     let error = edited(|s| s.bodies[2].orientation.x_axis.x = 1e308).unwrap_err();
     assert!(error.to_string().contains("not a rotation"), "{error}");
 
-    let error = edited(|s| s.bodies[1].inv_mass = -2.0).unwrap_err();
-    assert!(error.to_string().contains("mass properties"), "{error}");
+    let error = edited(|s| s.bodies[2].inv_mass = -2.0).unwrap_err();
+    assert!(error.to_string().contains("field 'inv_mass'"), "{error}");
 
     let error = edited(|s| {
         s.bodies.pop();
@@ -123,6 +123,11 @@ fn bad_snapshots_are_refused_with_the_file_and_body_named() {
     assert!(
         matches!(error, SnapshotError::Inconsistent { .. }),
         "{error}"
+    );
+    let text = error.to_string();
+    assert!(
+        text.ends_with("bodies: 2 listed, but the broad phase holds 3 (a body is missing)"),
+        "{text}"
     );
 
     let error = edited(|s| s.settings.solver.substeps = 4_000_000_000).unwrap_err();
@@ -177,4 +182,138 @@ fn missing_snapshot_file_is_an_error_naming_it() {
         error.to_string().starts_with("/nonexistent/world.ron"),
         "{error}"
     );
+}
+
+/// The body, field and message of a snapshot refused for one of its bodies.
+fn body_error(error: SnapshotError) -> (usize, String, String, String) {
+    let text = error.to_string();
+    assert!(text.starts_with(FILE), "{text}");
+    match error {
+        SnapshotError::Body {
+            index,
+            name,
+            field,
+            message,
+            ..
+        } => (index, name, field, message),
+        other => panic!("not a body error: {other}"),
+    }
+}
+
+#[test]
+fn a_snapshot_is_validated_as_strictly_as_a_scene() {
+    type Edit = fn(&mut WorldSnapshot);
+    let cases: [(Edit, usize, &str, &str); 10] = [
+        (
+            |s| s.bodies[2].material.restitution = 5.0,
+            2,
+            "material.restitution",
+            "must lie in [0, 1], got 5",
+        ),
+        (
+            |s| s.bodies[2].material.friction = f64::NAN,
+            2,
+            "material.friction",
+            "must be finite",
+        ),
+        (
+            |s| s.bodies[0].material.friction = -5.0,
+            0,
+            "material.friction",
+            "must lie in [0, 10], got -5",
+        ),
+        (
+            |s| s.bodies[2].material.density = 0.0,
+            2,
+            "material.density",
+            "must be positive, got 0",
+        ),
+        (
+            |s| s.bodies[2].inv_mass = 0.0,
+            2,
+            "inv_mass",
+            "must be positive and finite on a dynamic body, got 0",
+        ),
+        (
+            |s| s.bodies[0].inv_mass = 1.0,
+            0,
+            "inv_mass",
+            "must be 0 on a static body, got 1",
+        ),
+        (
+            |s| s.bodies[2].inv_inertia_local.y_axis.y *= -1.0,
+            2,
+            "inv_inertia_local",
+            "must be symmetric positive definite",
+        ),
+        (
+            |s| s.bodies[2].inv_inertia_local.x_axis.y += 1.0,
+            2,
+            "inv_inertia_local",
+            "must be symmetric positive definite",
+        ),
+        (
+            |s| s.bodies[2].inv_inertia_world *= 2.0,
+            2,
+            "inv_inertia_world",
+            "must be R I⁻¹ Rᵀ",
+        ),
+        (
+            |s| s.bodies[1].inv_inertia_local = DMat3::IDENTITY,
+            1,
+            "inv_inertia_local",
+            "must be zero on a static body",
+        ),
+    ];
+    for (edit, index, field, message) in cases {
+        let (found_index, name, found_field, found_message) = body_error(edited(edit).unwrap_err());
+        assert_eq!(
+            (found_index, found_field.as_str()),
+            (index, field),
+            "{found_message}"
+        );
+        assert_eq!(name, ["platform", "cube", "box"][index]);
+        assert!(
+            found_message.starts_with(message),
+            "{field}: {found_message}"
+        );
+    }
+}
+
+#[test]
+fn negative_drag_and_a_wrapping_step_count_are_refused() {
+    let error = edited(|s| {
+        s.forces
+            .push(EnvironmentForce::QuadraticDrag { coefficient: -0.5 })
+    })
+    .unwrap_err();
+    let text = error.to_string();
+    assert!(
+        matches!(error, SnapshotError::Inconsistent { .. }),
+        "{text}"
+    );
+    assert!(
+        text.starts_with(FILE) && text.contains("forces[1]"),
+        "{text}"
+    );
+    assert!(text.contains("not negative"), "{text}");
+
+    let error = edited(|s| s.steps = u64::MAX).unwrap_err();
+    let text = error.to_string();
+    assert!(
+        matches!(error, SnapshotError::Inconsistent { .. }),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "steps must be at most 9007199254740992 (2^53), got {}",
+            u64::MAX
+        )),
+        "{text}"
+    );
+    // The limit itself still steps on.
+    let snapshot = edited(|s| s.steps = 1 << 53).unwrap();
+    let mut world = World::from_snapshot(snapshot, FILE).unwrap();
+    world.step(DT);
+    assert_eq!(world.step_count(), (1 << 53) + 1);
 }

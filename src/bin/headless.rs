@@ -6,19 +6,20 @@
 //! A run can start from a saved world (`--from-snapshot`), save its final world
 //! (`--save-snapshot`), or replay a recording of a viewer session (`--replay`).
 //!
-//! Exit codes: 0 on success, 2 on a bad scene, bad arguments or an unwritable output file.
+//! Exit codes: 0 on success, 2 on a bad scene, bad arguments, an unwritable output file or
+//! an output that names an input file. A closed stdout is not an error.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::{BufWriter, ErrorKind, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
 use glam::{DQuat, DVec3};
-use rigid::physics::{Integrator, RigidBody, World, WorldSnapshot, WorldTotals};
-use rigid::scene::{self, DEFAULT_SCENE, DT_RANGE, Scene};
-use rigid::sim::{Recording, SavedWorld, Simulation};
+use rigid::physics::{Integrator, RigidBody, SnapshotError, World, WorldSnapshot, WorldTotals};
+use rigid::scene::{self, DEFAULT_SCENE, DT_RANGE};
+use rigid::sim::{FileCommands, Recording, SavedWorld, Simulation};
 
 #[derive(Parser, Debug)]
 #[command(about = "Run a scene without a window and report energy and momentum")]
@@ -30,7 +31,7 @@ struct Args {
     #[arg(long, default_value_t = 1000)]
     steps: u64,
     /// Time step in seconds (default: the scene's).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     dt: Option<f64>,
     /// Integrator (default: the scene's).
     #[arg(long, value_enum)]
@@ -45,15 +46,20 @@ struct Args {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     every: u64,
     /// Start from this saved world (from --save-snapshot or the viewer's "Save world") instead
-    /// of the scene's initial one.
+    /// of the scene's initial one; it runs at its own dt and keeps its scene's name.
     #[arg(long)]
     from_snapshot: Option<PathBuf>,
-    /// Save the final world to this file.
+    /// Save the final world to this file, with its scene and dt (the viewer's "Load world"
+    /// and --from-snapshot read it).
     #[arg(long)]
     save_snapshot: Option<PathBuf>,
     /// Replay a recording of a viewer session to its end (ignores --scene, --steps, --dt).
     #[arg(long, conflicts_with_all = ["from_snapshot", "csv", "json", "integrator"])]
     replay: Option<PathBuf>,
+    /// Let --replay run the recording's commands that save or load files (SaveWorld,
+    /// SaveRecording, LoadWorld, LoadScene of a file); without it such a recording is refused.
+    #[arg(long, requires = "replay")]
+    allow_file_commands: bool,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -85,27 +91,20 @@ fn main() -> ExitCode {
 }
 
 fn run(args: &Args) -> Result<(), String> {
+    refuse_overwriting_inputs(args)?;
     if let Some(path) = &args.replay {
         return replay(args, path);
     }
-    let scene = scene::load(&args.scene).map_err(|error| error.to_string())?;
     let start = match &args.from_snapshot {
-        Some(path) => Some(load_saved(path)?),
-        None => None,
+        Some(path) => Start::from_saved(path, &args.scene)?,
+        None => Start::from_scene(&args.scene)?,
     };
-    let saved_dt = start.as_ref().and_then(|(_, dt)| *dt);
-    let dt = args.dt.or(saved_dt).unwrap_or(scene.settings.dt);
+    let dt = args.dt.unwrap_or(start.dt);
     if !DT_RANGE.contains(&dt) {
         let (min, max) = DT_RANGE.into_inner();
         return Err(format!("--dt must lie in [{min}, {max}] s, got {dt}"));
     }
-    let mut world = match (start, &args.from_snapshot) {
-        (Some((snapshot, _)), Some(path)) => {
-            World::from_snapshot(snapshot, &path.display().to_string())
-                .map_err(|error| error.to_string())?
-        }
-        _ => scene.build_world().map_err(|error| error.to_string())?,
-    };
+    let mut world = start.world;
     if let Some(integrator) = args.integrator {
         world.settings.integrator = integrator.into();
     }
@@ -122,42 +121,156 @@ fn run(args: &Args) -> Result<(), String> {
     }
     output.finish()?;
     let wall = started.elapsed().as_secs_f64();
-    print_summary(&scene, &world, dt, wall, &initial);
-    save_snapshot(args, &world)
+    // Saved before the summary is printed, so that a closed stdout never costs the file.
+    if let Some(path) = &args.save_snapshot {
+        let saved = SavedWorld {
+            scene: start.scene,
+            dt,
+            hidden: start.hidden,
+            materials: start.materials,
+            world: world.to_snapshot(),
+        };
+        saved.save(path)?;
+    }
+    print_summary(&start.label, &world, dt, wall, &initial)
 }
 
-/// A world saved by `--save-snapshot`, or by the viewer's "Save world" (which also knows the
-/// step it ran at).
-fn load_saved(path: &Path) -> Result<(WorldSnapshot, Option<f64>), String> {
-    match WorldSnapshot::load(path) {
-        Ok(snapshot) => Ok((snapshot, None)),
-        Err(error) => match SavedWorld::load(path) {
-            Ok(saved) => Ok((saved.world, Some(saved.dt))),
-            Err(_) => Err(error.to_string()),
-        },
+/// Refuses outputs that name an input file (the same file, however spelled): writing them
+/// would destroy what the run reads. Saving over the snapshot a run resumes from is allowed,
+/// since that file is only read before the run starts and is replaced whole.
+fn refuse_overwriting_inputs(args: &Args) -> Result<(), String> {
+    let scene = (scene::find_builtin(&args.scene).is_none()).then(|| Path::new(&args.scene));
+    let inputs = [
+        ("--scene", scene),
+        ("--from-snapshot", args.from_snapshot.as_deref()),
+        ("--replay", args.replay.as_deref()),
+    ];
+    let outputs = [
+        ("--csv", args.csv.as_deref()),
+        ("--json", args.json.as_deref()),
+        ("--save-snapshot", args.save_snapshot.as_deref()),
+    ];
+    for (output_flag, output) in outputs {
+        for (input_flag, input) in inputs {
+            let (Some(output), Some(input)) = (output, input) else {
+                continue;
+            };
+            let resumes_in_place =
+                output_flag == "--save-snapshot" && input_flag == "--from-snapshot";
+            if !resumes_in_place && same_file(output, input) {
+                return Err(format!(
+                    "{output_flag} {} is the {input_flag} file: refusing to overwrite an input",
+                    output.display()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Both exist and resolve to the same path (an output that does not exist yet is no input).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
+/// The world a run starts from, with what its saved world carries beside it.
+struct Start {
+    world: World,
+    /// The built-in scene name or scene file path, as a saved world records it.
+    scene: String,
+    /// How the summary names the scene.
+    label: String,
+    /// The step to run at unless --dt says otherwise, s.
+    dt: f64,
+    hidden: Vec<bool>,
+    materials: Vec<String>,
+}
+
+impl Start {
+    fn from_scene(name: &str) -> Result<Start, String> {
+        if let Some(note) = scene::shadowed_file_note(name) {
+            eprintln!("note: {note}");
+        }
+        let scene = scene::load(name).map_err(|error| error.to_string())?;
+        Ok(Start {
+            world: scene.build_world().map_err(|error| error.to_string())?,
+            scene: name.to_string(),
+            label: format!("{} ({})", scene.name, scene.origin),
+            dt: scene.settings.dt,
+            hidden: scene.hidden_bodies(),
+            materials: scene.material_names(),
+        })
+    }
+
+    /// A world saved by --save-snapshot or the viewer's "Save world", which carry their scene
+    /// and dt; or a bare world snapshot, as older builds wrote, which carries neither: the
+    /// scene `scene` (--scene) supplies them, with a note.
+    fn from_saved(path: &Path, scene: &str) -> Result<Start, String> {
+        let file = path.display().to_string();
+        let saved = match SavedWorld::load(path) {
+            Ok(saved) => saved,
+            Err(saved_error) => {
+                let snapshot = match WorldSnapshot::load(path) {
+                    Ok(snapshot) => snapshot,
+                    // Text that is not even a bare snapshot: the saved world's error says
+                    // more, since that is what this build writes.
+                    Err(SnapshotError::Unreadable { .. }) => return Err(saved_error),
+                    Err(error) => return Err(error.to_string()),
+                };
+                let dt = scene::load(scene)
+                    .map_err(|error| error.to_string())?
+                    .settings
+                    .dt;
+                eprintln!(
+                    "note: {file} holds no scene or dt (written by an older build); \
+                     taking them from --scene {scene}"
+                );
+                SavedWorld {
+                    scene: scene.to_string(),
+                    dt,
+                    hidden: Vec::new(),
+                    materials: Vec::new(),
+                    world: snapshot,
+                }
+            }
+        };
+        Ok(Start {
+            world: World::from_snapshot(saved.world, &file).map_err(|error| error.to_string())?,
+            label: format!("{} (resumed from {file})", saved.scene),
+            scene: saved.scene,
+            dt: saved.dt,
+            hidden: saved.hidden,
+            materials: saved.materials,
+        })
     }
 }
 
 /// Runs a recording through the same `Simulation` the viewer uses, to its last tick.
 fn replay(args: &Args, path: &Path) -> Result<(), String> {
-    let recording = Recording::load(path)?;
+    let recording = Recording::load(path).map_err(|error| error.to_string())?;
     let scene = scene::load(&recording.scene).map_err(|error| error.to_string())?;
-    let mut sim = Simulation::replaying(&recording)?;
+    let files = if args.allow_file_commands {
+        FileCommands::Allow
+    } else {
+        FileCommands::Refuse
+    };
+    let file = path.display().to_string();
+    let mut sim =
+        Simulation::replaying(&recording, &file, files).map_err(|error| error.to_string())?;
     let initial = sim.world().totals();
     let started = Instant::now();
     while sim.ticks() < recording.ticks {
         sim.step();
     }
     let wall = started.elapsed().as_secs_f64();
-    print_summary(&scene, sim.world(), sim.settings().dt, wall, &initial);
-    save_snapshot(args, sim.world())
-}
-
-fn save_snapshot(args: &Args, world: &World) -> Result<(), String> {
-    match &args.save_snapshot {
-        Some(path) => world.to_snapshot().save(path).map_err(|e| e.to_string()),
-        None => Ok(()),
+    if let Some(path) = &args.save_snapshot {
+        sim.saved_world().save(path)?;
     }
+    let label = format!("{} ({})", scene.name, scene.origin);
+    print_summary(&label, sim.world(), sim.settings().dt, wall, &initial)
 }
 
 enum Format {
@@ -307,42 +420,63 @@ fn json_string(text: &str) -> String {
     quoted
 }
 
-fn print_summary(scene: &Scene, world: &World, dt: f64, wall: f64, initial: &WorldTotals) {
+/// Prints the summary. A reader that went away (`| head`, `| true`) is no error: the run's
+/// files are written by then, and there is no one left to tell.
+fn print_summary(
+    label: &str,
+    world: &World,
+    dt: f64,
+    wall: f64,
+    initial: &WorldTotals,
+) -> Result<(), String> {
+    let text = summary(label, world, dt, wall, initial);
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(error) if error.kind() != ErrorKind::BrokenPipe => {
+            Err(format!("cannot write to stdout: {error}"))
+        }
+        _ => Ok(()),
+    }
+}
+
+fn summary(label: &str, world: &World, dt: f64, wall: f64, initial: &WorldTotals) -> String {
     let last = world.totals();
     let dynamic = world.bodies().iter().filter(|b| b.is_dynamic()).count();
     let simulated = world.time();
     let e0 = initial.kinetic_energy + initial.potential_energy;
     let e1 = last.kinetic_energy + last.potential_energy;
-    println!("scene            {} ({})", scene.name, scene.origin);
-    println!(
-        "bodies           {} ({dynamic} dynamic)",
-        world.bodies().len()
-    );
-    println!(
-        "integrator       {}, dt {dt} s",
-        world.settings.integrator.name()
-    );
-    println!(
-        "steps            {}, simulated {simulated:.6} s, wall {wall:.6} s ({:.1}x real time)",
-        world.step_count(),
-        simulated / wall.max(1e-9)
-    );
-    println!(
-        "energy K+U       initial {e0:.9e} J ({:.6e} + {:.6e}), final {e1:.9e} J ({:.6e} + {:.6e})",
-        initial.kinetic_energy,
-        initial.potential_energy,
-        last.kinetic_energy,
-        last.potential_energy
-    );
-    println!("energy drift     {}", drift(e0, e1));
-    println!(
-        "linear momentum  initial {}, final {} kg·m/s",
-        initial.linear_momentum, last.linear_momentum
-    );
-    println!(
-        "angular momentum initial {}, final {} kg·m²/s",
-        initial.angular_momentum, last.angular_momentum
-    );
+    let lines = [
+        format!("scene            {label}"),
+        format!(
+            "bodies           {} ({dynamic} dynamic)",
+            world.bodies().len()
+        ),
+        format!(
+            "integrator       {}, dt {dt} s",
+            world.settings.integrator.name()
+        ),
+        format!(
+            "steps            {}, simulated {simulated:.6} s, wall {wall:.6} s ({:.1}x real time)",
+            world.step_count(),
+            simulated / wall.max(1e-9)
+        ),
+        format!(
+            "energy K+U       initial {e0:.9e} J ({:.6e} + {:.6e}), final {e1:.9e} J ({:.6e} + {:.6e})",
+            initial.kinetic_energy,
+            initial.potential_energy,
+            last.kinetic_energy,
+            last.potential_energy
+        ),
+        format!("energy drift     {}", drift(e0, e1)),
+        format!(
+            "linear momentum  initial {}, final {} kg·m/s",
+            initial.linear_momentum, last.linear_momentum
+        ),
+        format!(
+            "angular momentum initial {}, final {} kg·m²/s",
+            initial.angular_momentum, last.angular_momentum
+        ),
+    ];
+    lines.iter().map(|line| format!("{line}\n")).collect()
 }
 
 /// Relative when the initial energy is not (close to) zero; potential energy is measured from

@@ -22,7 +22,7 @@ mod desktop {
     use rigid::render::Overlays;
     use rigid::render::gpu::Gpu;
     use rigid::render::headless;
-    use rigid::sim::{DEFAULT_SCENE, scene_names};
+    use rigid::sim::{DEFAULT_SCENE, FileCommands, scene_names};
 
     #[derive(Parser)]
     #[command(version, about = "Real-time rigid-body physics viewer")]
@@ -39,6 +39,11 @@ mod desktop {
         /// Replay a recording saved from the panel ("Save recording").
         #[arg(long, conflicts_with = "scene")]
         replay: Option<PathBuf>,
+        /// Let the replay run the recording's commands that save or load files (SaveWorld,
+        /// SaveRecording, LoadWorld, LoadScene of a file); without it such a recording is
+        /// refused.
+        #[arg(long, requires = "replay")]
+        allow_file_commands: bool,
         #[command(subcommand)]
         command: Option<Command>,
     }
@@ -54,9 +59,21 @@ mod desktop {
             /// Fixed steps (of 1/120 s) to simulate before drawing.
             #[arg(long, default_value_t = 0)]
             steps: u32,
-            #[arg(long, default_value_t = 1280)]
+            /// Image width, pixels, in [1, 16384] (less where the adapter offers less).
+            #[arg(
+                long,
+                default_value_t = 1280,
+                value_parser = image_side,
+                allow_negative_numbers = true
+            )]
             width: u32,
-            #[arg(long, default_value_t = 720)]
+            /// Image height, pixels, in [1, 16384] (less where the adapter offers less).
+            #[arg(
+                long,
+                default_value_t = 720,
+                value_parser = image_side,
+                allow_negative_numbers = true
+            )]
             height: u32,
             /// Draw bounding boxes.
             #[arg(long)]
@@ -67,6 +84,34 @@ mod desktop {
         },
         /// List the built-in scenes.
         Scenes,
+    }
+
+    fn note_shadowed_file(scene: &str) {
+        if let Some(note) = rigid::scene::shadowed_file_note(scene) {
+            eprintln!("rigid: note: {note}");
+        }
+    }
+
+    /// Checked before any device exists, so a bad size needs no graphics adapter to be told.
+    fn image_side(text: &str) -> Result<u32, String> {
+        let max = headless::MAX_IMAGE_SIZE;
+        match text.parse::<u64>() {
+            Ok(value) if (1..=u64::from(max)).contains(&value) => Ok(value as u32),
+            _ => Err(format!("must be a whole number of pixels in [1, {max}]")),
+        }
+    }
+
+    /// Why the command failed, and its exit code: 2 for what the user asked wrong, as clap
+    /// gives for bad arguments, 1 for anything else.
+    struct Failure {
+        code: u8,
+        message: String,
+    }
+
+    impl From<String> for Failure {
+        fn from(message: String) -> Self {
+            Failure { code: 1, message }
+        }
     }
 
     pub fn main() -> ExitCode {
@@ -92,18 +137,27 @@ mod desktop {
                 };
                 render(&scene, steps, (width, height), overlays, &output)
             }
-            None => rigid::ui::app::run(rigid::ui::app::AppOptions {
-                scene: cli.scene,
-                exit_after: cli.exit_after,
-                screenshot: cli.screenshot,
-                replay: cli.replay,
-            }),
+            None => {
+                note_shadowed_file(&cli.scene);
+                rigid::ui::app::run(rigid::ui::app::AppOptions {
+                    scene: cli.scene,
+                    exit_after: cli.exit_after,
+                    screenshot: cli.screenshot,
+                    replay: cli.replay,
+                    replay_files: if cli.allow_file_commands {
+                        FileCommands::Allow
+                    } else {
+                        FileCommands::Refuse
+                    },
+                })
+                .map_err(Failure::from)
+            }
         };
         match result {
             Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("rigid: {e}");
-                ExitCode::FAILURE
+            Err(failure) => {
+                eprintln!("rigid: {}", failure.message);
+                ExitCode::from(failure.code)
             }
         }
     }
@@ -114,12 +168,14 @@ mod desktop {
         size: (u32, u32),
         overlays: Overlays,
         output: &PathBuf,
-    ) -> Result<(), String> {
+    ) -> Result<(), Failure> {
+        note_shadowed_file(scene);
         let snapshot = headless::simulate(scene, steps)?;
         let gpu = Gpu::offscreen()?;
+        headless::check_size(&gpu, size).map_err(|message| Failure { code: 2, message })?;
         let image = headless::render_snapshot(&gpu, &snapshot, overlays, size)?;
         image
             .save(output)
-            .map_err(|e| format!("cannot write {}: {e}", output.display()))
+            .map_err(|e| format!("cannot write {}: {e}", output.display()).into())
     }
 }

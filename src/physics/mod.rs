@@ -23,7 +23,7 @@ pub mod world;
 pub use collision::broad_phase::{BodyPair, BroadPhase, BroadPhaseKind, Proxy};
 pub use collision::contact::{Contact, ContactKind, ContactManifold, FeatureId};
 pub use collision::manifold::{contact_manifold, generate_contacts};
-pub use dynamics::body::{BodyDesc, BodyError, BodyId, Material, Motion, RigidBody};
+pub use dynamics::body::{BodyDesc, BodyError, BodyId, MAX_FRICTION, Material, Motion, RigidBody};
 pub use dynamics::forces::{EnvironmentForce, STANDARD_GRAVITY};
 pub use dynamics::integrate::Integrator;
 pub use dynamics::islands::SleepSettings;

@@ -3,9 +3,11 @@
 //! the last step saw). A world restored from a snapshot continues bit for bit as if it had
 //! never stopped; the broad phase's own bookkeeping is only a cache and is rebuilt.
 //!
-//! Snapshots are RON text. Loading one checks it the way scene files are checked: a file that
-//! does not parse, or whose bodies are not finite, not valid shapes or refer to bodies that do
-//! not exist, gives an error naming the file and the body instead of a world that panics later.
+//! Snapshots are RON text. Loading one checks it as strictly as a scene file: a file that does
+//! not parse, whose bodies are not finite, not valid shapes, of materials a scene refuses, of
+//! mass properties their motion cannot have, or refer to bodies that do not exist, whose
+//! forces are not finite or drag negatively, or whose step count would wrap, gives an error
+//! naming the file, the body and the field instead of a world that misbehaves later.
 
 use std::path::Path;
 
@@ -16,7 +18,7 @@ use thiserror::Error;
 use crate::physics::collision::broad_phase::{BroadPhaseKind, Proxy};
 use crate::physics::collision::contact_cache::ContactCache;
 use crate::physics::collision::manifold_memory::ManifoldMemory;
-use crate::physics::dynamics::body::RigidBody;
+use crate::physics::dynamics::body::{Motion, RigidBody};
 use crate::physics::dynamics::forces::EnvironmentForce;
 use crate::physics::world::{Fault, MAX_BODIES, WorldSettings};
 
@@ -75,9 +77,12 @@ pub enum SnapshotError {
         /// The format the snapshot has.
         found: u32,
     },
-    /// A body the engine cannot take: an invalid shape, a state or mass that is not finite,
-    /// or an orientation that is not a rotation.
-    #[error("{file}: body {index} ('{name}'): {message}")]
+    /// A body the engine cannot take: an invalid shape or material, a state that is not
+    /// finite, an orientation that is not a rotation, mass properties that do not fit its
+    /// motion (a dynamic body without a positive inverse mass and a symmetric positive
+    /// definite inverse inertia, a static one with any) or a world inertia that is not
+    /// R I⁻¹ Rᵀ.
+    #[error("{file}: body {index} ('{name}') field '{field}': {message}")]
     Body {
         /// The snapshot's name.
         file: String,
@@ -85,6 +90,8 @@ pub enum SnapshotError {
         index: usize,
         /// The body's name.
         name: String,
+        /// The offending field of `RigidBody`: `material.friction`, `inv_inertia_local`.
+        field: String,
         /// What is wrong with it.
         message: String,
     },
@@ -157,16 +164,23 @@ impl WorldSnapshot {
             )));
         }
         for (index, body) in self.bodies.iter().enumerate() {
-            check_body(body).map_err(|message| SnapshotError::Body {
+            check_body(body).map_err(|(field, message)| SnapshotError::Body {
                 file: file.to_string(),
                 index,
                 name: body.name.clone(),
+                field: field.to_string(),
                 message,
             })?;
         }
+        if self.steps > MAX_STEPS {
+            return Err(inconsistent(format!(
+                "steps must be at most {MAX_STEPS} (2^53), got {}",
+                self.steps
+            )));
+        }
         if self.proxies.len() > count {
             return Err(inconsistent(format!(
-                "{} broad-phase proxies for {count} bodies",
+                "bodies: {count} listed, but the broad phase holds {} (a body is missing)",
                 self.proxies.len()
             )));
         }
@@ -193,8 +207,11 @@ impl WorldSnapshot {
             return Err(inconsistent("time is not finite".into()));
         }
         check_settings(&self.settings).map_err(|m| inconsistent(format!("settings: {m}")))?;
-        if !self.forces.iter().all(force_is_finite) {
-            return Err(inconsistent("a force is not finite".into()));
+        // The loader of scenes refuses the same: a negative drag pumps energy in.
+        if let Some((index, force)) = self.forces.iter().enumerate().find(|(_, f)| !f.is_valid()) {
+            return Err(inconsistent(format!(
+                "forces[{index}] ({force:?}): a force must be finite, and a coefficient not negative"
+            )));
         }
         Ok(())
     }
@@ -267,38 +284,117 @@ fn is_rotation(r: DMat3) -> bool {
     worst <= ORTHONORMAL_TOLERANCE && r.determinant() > 0.0
 }
 
-fn force_is_finite(force: &EnvironmentForce) -> bool {
-    match *force {
-        EnvironmentForce::Gravity { acceleration } => acceleration.is_finite(),
-        EnvironmentForce::LinearDrag { coefficient }
-        | EnvironmentForce::QuadraticDrag { coefficient } => coefficient.is_finite(),
-        EnvironmentForce::Wind {
-            velocity,
-            coefficient,
-        } => velocity.is_finite() && coefficient.is_finite(),
-    }
-}
+/// Most steps a snapshot may have taken: the count must leave room to step on without
+/// wrapping, and no run comes near it (2^53 steps of 1 µs are 285 years).
+pub const MAX_STEPS: u64 = 1 << 53;
 
-/// A body the solver can take: a valid shape, and (unless it was isolated for going
-/// non-finite) a finite state and non-negative inverse mass.
-fn check_body(body: &RigidBody) -> Result<(), String> {
-    body.shape.validate().map_err(|e| format!("shape: {e}"))?;
+/// A body the solver can take, as strict as a scene's: a valid shape and material, and
+/// (unless it was isolated for going non-finite or removed) a finite state and the mass
+/// properties its motion implies. Errors are (field, what is wrong).
+fn check_body(body: &RigidBody) -> Result<(), (&'static str, String)> {
+    body.shape
+        .validate()
+        .map_err(|e| ("shape", e.to_string()))?;
     if !body.motion.takes_part() {
         return Ok(());
     }
-    if !body.is_finite() || !body.force.is_finite() || !body.torque.is_finite() {
-        return Err("state is not finite".into());
+    body.material
+        .validate(&body.name)
+        .map_err(|e| (e.field(), e.reason()))?;
+    let vectors = [
+        ("position", body.position),
+        ("linear_momentum", body.linear_momentum),
+        ("angular_momentum", body.angular_momentum),
+        ("local_center", body.local_center),
+        ("force", body.force),
+        ("torque", body.torque),
+    ];
+    for (field, value) in vectors {
+        if !value.is_finite() {
+            return Err((field, format!("state is not finite: {value}")));
+        }
+    }
+    if !body.orientation.is_finite() {
+        return Err(("orientation", "state is not finite".into()));
     }
     if !is_rotation(body.orientation) {
-        return Err("orientation is not a rotation matrix".into());
+        return Err(("orientation", "is not a rotation matrix".into()));
     }
-    let inverse_mass_ok = body.inv_mass.is_finite() && body.inv_mass >= 0.0;
-    if !inverse_mass_ok
-        || !body.inv_inertia_local.is_finite()
-        || !body.inv_inertia_world.is_finite()
-        || !body.quiet_time.is_finite()
-    {
-        return Err("mass properties are not finite and non-negative".into());
+    if !(body.quiet_time.is_finite() && body.quiet_time >= 0.0) {
+        return Err((
+            "quiet_time",
+            format!("must be finite and non-negative, got {}", body.quiet_time),
+        ));
+    }
+    check_mass_properties(body)
+}
+
+/// A dynamic body has a positive inverse mass and a symmetric positive definite inverse
+/// inertia; a static one has neither (as `RigidBody::from_desc` makes them). Either way the
+/// world inverse inertia must be R I⁻¹ Rᵀ, which the solvers read without recomputing.
+fn check_mass_properties(body: &RigidBody) -> Result<(), (&'static str, String)> {
+    let local = body.inv_inertia_local;
+    if body.motion == Motion::Static {
+        if body.inv_mass != 0.0 {
+            return Err((
+                "inv_mass",
+                format!("must be 0 on a static body, got {}", body.inv_mass),
+            ));
+        }
+        if local != DMat3::ZERO || body.inv_inertia_world != DMat3::ZERO {
+            return Err(("inv_inertia_local", "must be zero on a static body".into()));
+        }
+        return Ok(());
+    }
+    if !(body.inv_mass.is_finite() && body.inv_mass > 0.0) {
+        return Err((
+            "inv_mass",
+            format!(
+                "must be positive and finite on a dynamic body, got {}",
+                body.inv_mass
+            ),
+        ));
+    }
+    if !(local.is_finite() && is_symmetric_positive_definite(local)) {
+        return Err((
+            "inv_inertia_local",
+            format!("must be symmetric positive definite, got {local}"),
+        ));
+    }
+    let expected = body.orientation * local * body.orientation.transpose();
+    if !close(body.inv_inertia_world, expected) {
+        return Err((
+            "inv_inertia_world",
+            format!(
+                "must be R I⁻¹ Rᵀ = {expected}, got {}",
+                body.inv_inertia_world
+            ),
+        ));
     }
     Ok(())
+}
+
+fn columns(m: DMat3) -> [glam::DVec3; 3] {
+    [m.x_axis, m.y_axis, m.z_axis]
+}
+
+fn largest_entry(m: DMat3) -> f64 {
+    columns(m)
+        .iter()
+        .map(|c| c.abs().max_element())
+        .fold(0.0, f64::max)
+}
+
+/// Equal up to `ORTHONORMAL_TOLERANCE` relative to the larger entry: rounding of the
+/// product, never a hand edit.
+fn close(a: DMat3, b: DMat3) -> bool {
+    let scale = largest_entry(a).max(largest_entry(b));
+    largest_entry(a - b) <= ORTHONORMAL_TOLERANCE * scale
+}
+
+/// Sylvester's criterion on a matrix symmetric up to rounding: every leading principal
+/// minor positive.
+fn is_symmetric_positive_definite(m: DMat3) -> bool {
+    let [x, y, _] = columns(m);
+    close(m, m.transpose()) && x.x > 0.0 && x.x * y.y - x.y * y.x > 0.0 && m.determinant() > 0.0
 }

@@ -28,13 +28,34 @@ pub fn simulate(scene: &str, steps: u32) -> Result<Snapshot, String> {
     Ok(snapshot)
 }
 
-/// Draws `snapshot` from its scene's camera into an image of `size` pixels.
+/// The largest width or height `rigid render` takes before it opens a device: the largest
+/// 2D texture that desktop adapters commonly offer. An adapter offering less refuses more
+/// (see `check_size`).
+pub const MAX_IMAGE_SIZE: u32 = 16384;
+
+/// Whether `gpu` can draw an image of `size` pixels: each side at least 1 and at most its
+/// largest 2D texture; wgpu would panic on either.
+pub fn check_size(gpu: &Gpu, (width, height): (u32, u32)) -> Result<(), String> {
+    let max = gpu.device.limits().max_texture_dimension_2d;
+    for (side, value) in [("width", width), ("height", height)] {
+        if !(1..=max).contains(&value) {
+            return Err(format!(
+                "image {side} must lie in [1, {max}] pixels on this graphics adapter, got {value}"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Draws `snapshot` from its scene's camera into an image of `size` pixels; a size the
+/// adapter cannot draw is an error (see `check_size`).
 pub fn render_snapshot(
     gpu: &Gpu,
     snapshot: &Snapshot,
     overlays: Overlays,
     size: (u32, u32),
 ) -> Result<RgbaImage, String> {
+    check_size(gpu, size)?;
     let camera = OrbitCamera::from_hint(&snapshot.camera);
     let poses: Vec<_> = snapshot.bodies.iter().map(|b| b.pose).collect();
     let frame = FrameInput {

@@ -129,10 +129,12 @@ impl Scene {
             }
             MaterialRef::Named(name) => self.materials.get(name).copied().ok_or_else(|| {
                 let known: Vec<&str> = self.materials.keys().map(String::as_str).collect();
-                FieldError::new(
-                    "material",
-                    format!("unknown material '{name}' (defined: {})", known.join(", ")),
-                )
+                let defined = if known.is_empty() {
+                    "the scene defines no materials".to_owned()
+                } else {
+                    format!("defined: {}", known.join(", "))
+                };
+                FieldError::new("material", format!("unknown material '{name}' ({defined})"))
             }),
         }
     }
@@ -173,36 +175,13 @@ fn instances(spec: &BodySpec, template: &BodyDesc) -> Result<Vec<BodyDesc>, Fiel
 
 /// The engine's message, reduced to its field: the body is named by the caller.
 fn field_of(error: BodyError) -> FieldError {
-    match error {
-        BodyError::Shape { source, .. } => FieldError::new("shape", source.to_string()),
-        BodyError::NotFinite { field, .. } => FieldError::new(field, "must be finite"),
-        BodyError::NotPositive { field, value, .. } => {
-            FieldError::new(field, format!("must be positive, got {value}"))
-        }
-        BodyError::OutOfRange {
-            field,
-            value,
-            min,
-            max,
-            ..
-        } => FieldError::new(field, format!("must lie in [{min}, {max}], got {value}")),
-        BodyError::MassNotInvertible { field, mass, .. } => FieldError::new(
-            field,
-            format!("gives a mass of {mass} kg, too small or too large to simulate"),
-        ),
-    }
+    FieldError::new(error.field(), error.reason())
 }
 
 /// Adding a body that `body_descs` accepted cannot fail; should the engine's rules ever
 /// tighten, its error still names the body.
 fn body_error(file: &str, error: BodyError) -> SceneError {
-    let body = match &error {
-        BodyError::Shape { body, .. }
-        | BodyError::NotFinite { body, .. }
-        | BodyError::NotPositive { body, .. }
-        | BodyError::OutOfRange { body, .. }
-        | BodyError::MassNotInvertible { body, .. } => format!("'{body}'"),
-    };
+    let body = format!("'{}'", error.body());
     field_of(error).in_body(file, &body)
 }
 

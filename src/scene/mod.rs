@@ -79,7 +79,15 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
     parse(&text, &origin)
 }
 
-/// A built-in scene by name, or else a scene file by path.
+/// A note for the command-line tools when `name` is a built-in scene's and also names a
+/// file here: `load` takes the built-in one, and a user who meant the file should hear so.
+pub fn shadowed_file_note(name: &str) -> Option<String> {
+    (find_builtin(name).is_some() && Path::new(name).exists()).then(|| {
+        format!("'{name}' is the built-in scene; the file '{name}' here is not read (name it ./{name} to load it)")
+    })
+}
+
+/// A built-in scene by name, or else a scene file by path (see `shadowed_file_note`).
 pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
     if let Some(builtin) = find_builtin(name_or_path) {
         return builtin.parse();

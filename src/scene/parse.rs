@@ -1,6 +1,9 @@
 //! RON text → `Scene`, turning serde's errors into ones that say which body and field.
 
+use std::fmt;
+
 use serde::Deserialize;
+use serde::de::{Deserializer, IgnoredAny, MapAccess, Visitor};
 use serde_path_to_error::{Path, Segment};
 
 use crate::scene::error::{SceneError, body_label};
@@ -58,6 +61,10 @@ fn syntax_error(
         ron::Error::MissingStructField { field, .. } => {
             located.end_with_field(field);
             message = "missing".to_owned();
+        }
+        ron::Error::DuplicateStructField { field, .. } => {
+            located.end_with_field(field);
+            message = "given twice".to_owned();
         }
         _ => {}
     }
@@ -162,16 +169,41 @@ fn body_name(text: &str, index: usize) -> String {
         #[serde(default)]
         bodies: Vec<Name>,
     }
-    #[derive(Deserialize)]
-    struct Name {
-        #[serde(default)]
-        name: String,
-    }
     let name = options()
         .from_str::<Names>(text)
         .ok()
         .and_then(|names| names.bodies.into_iter().nth(index))
-        .map(|body| body.name)
+        .map(|body| body.0)
         .unwrap_or_default();
     body_label(&name, index)
+}
+
+/// A body's first `name`, every other field skipped unread, so that a body whose error is a
+/// second `name` (or any other field given twice) is still named.
+struct Name(String);
+
+impl<'de> Deserialize<'de> for Name {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct FirstName;
+        impl<'de> Visitor<'de> for FirstName {
+            type Value = Name;
+
+            fn expecting(&self, formatter: &mut fmt::Formatter) -> fmt::Result {
+                formatter.write_str("a body")
+            }
+
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Name, A::Error> {
+                let mut name = None;
+                while let Some(key) = map.next_key::<String>()? {
+                    if key == "name" && name.is_none() {
+                        name = Some(map.next_value::<String>()?);
+                    } else {
+                        map.next_value::<IgnoredAny>()?;
+                    }
+                }
+                Ok(Name(name.unwrap_or_default()))
+            }
+        }
+        deserializer.deserialize_struct("BodySpec", &["name"], FirstName)
+    }
 }

@@ -18,8 +18,8 @@ pub use crate::physics::MAX_BODIES;
 /// integrators are no longer meaningful for bodies of everyday size.
 pub const DT_RANGE: RangeInclusive<f64> = 1e-6..=0.1;
 
-/// The largest friction coefficient accepted (`BodyDesc::validate` uses the same bound).
-pub const MAX_FRICTION: f64 = 10.0;
+/// The largest friction coefficient accepted: the engine's own bound.
+pub use crate::physics::MAX_FRICTION;
 
 /// Everything about a scene that is not a body.
 pub(crate) fn check_scene(scene: &Scene) -> Result<(), SceneError> {

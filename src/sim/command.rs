@@ -74,7 +74,7 @@ pub enum Command {
         /// Negative values become 0.
         friction: f64,
     },
-    /// Fixed step, s; clamped to [1e-4, 0.05].
+    /// Fixed step, s, in [`DT_RANGE`]; refused outside it (see `Command::check`).
     SetDt(f64),
     /// Simulated seconds per wall-clock second; clamped to [0, 10], 0 stopping the clock.
     SetTimeScale(f64),
@@ -123,4 +123,88 @@ pub enum Command {
     SaveRecording(PathBuf),
     /// Ends the simulation: the thread returns, or the browser's loop stops stepping.
     Quit,
+}
+
+/// Fixed steps a simulation accepts, s: the panel's rates (30 to 1000 Hz) lie well inside;
+/// beyond them the fixed-dt loop cannot keep up or the integrators lose their accuracy.
+pub const DT_RANGE: (f64, f64) = (1e-4, 0.05);
+
+impl Command {
+    /// The variant's name, for messages about a command.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Command::SetPaused(_) => "SetPaused",
+            Command::StepOnce => "StepOnce",
+            Command::Reset => "Reset",
+            Command::LoadScene(_) => "LoadScene",
+            Command::SetGravity(_) => "SetGravity",
+            Command::SetRestitution(_) => "SetRestitution",
+            Command::SetFriction(_) => "SetFriction",
+            Command::SetMaterial { .. } => "SetMaterial",
+            Command::SetDt(_) => "SetDt",
+            Command::SetTimeScale(_) => "SetTimeScale",
+            Command::SetIntegrator(_) => "SetIntegrator",
+            Command::SetPipeline(_) => "SetPipeline",
+            Command::SetBroadPhase(_) => "SetBroadPhase",
+            Command::SetSubsteps(_) => "SetSubsteps",
+            Command::SetSleeping(_) => "SetSleeping",
+            Command::Spawn { .. } => "Spawn",
+            Command::ApplyImpulse { .. } => "ApplyImpulse",
+            Command::RemoveBody { .. } => "RemoveBody",
+            Command::SaveWorld(_) => "SaveWorld",
+            Command::LoadWorld(_) => "LoadWorld",
+            Command::SaveRecording(_) => "SaveRecording",
+            Command::Quit => "Quit",
+        }
+    }
+
+    /// Refuses the values no control of the viewer sends and the simulation cannot run with:
+    /// a dt outside [`DT_RANGE`] (NaN would freeze the world), or a non-finite gravity, time
+    /// scale, material coefficient or spawn. `SetMaterial` and `ApplyImpulse` ignore
+    /// non-finite values themselves, so are not refused here.
+    pub fn check(&self) -> Result<(), String> {
+        let finite = |field: &str, ok: bool, value: &dyn std::fmt::Display| {
+            if ok {
+                Ok(())
+            } else {
+                Err(format!("{field} must be finite, got {value}"))
+            }
+        };
+        match self {
+            Command::SetDt(dt) => {
+                let (min, max) = DT_RANGE;
+                if (min..=max).contains(dt) {
+                    Ok(())
+                } else {
+                    Err(format!("dt must lie in [{min}, {max}] s, got {dt}"))
+                }
+            }
+            Command::SetGravity(g) => finite("gravity", g.is_finite(), g),
+            Command::SetTimeScale(s) => finite("time scale", s.is_finite(), s),
+            Command::SetRestitution(e) => finite("restitution", e.is_finite(), e),
+            Command::SetFriction(mu) => finite("friction", mu.is_finite(), mu),
+            Command::Spawn {
+                position, velocity, ..
+            } => {
+                finite("position", position.is_finite(), position)?;
+                finite("velocity", velocity.is_finite(), velocity)
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// The file the command reads or writes, if it names one: a saved world, a recording, or
+    /// a scene file (a built-in scene is no file). A recording from elsewhere runs these only
+    /// when the user allows it (see `FileCommands`).
+    pub fn file_named(&self) -> Option<String> {
+        match self {
+            Command::SaveWorld(path) | Command::LoadWorld(path) | Command::SaveRecording(path) => {
+                Some(path.display().to_string())
+            }
+            Command::LoadScene(name) if crate::scene::find_builtin(name).is_none() => {
+                Some(name.clone())
+            }
+            _ => None,
+        }
+    }
 }

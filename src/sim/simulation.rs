@@ -14,8 +14,8 @@ use crate::physics::{
     Aabb, BodyId, BroadPhaseKind, EnvironmentForce, Fault, Material, Motion, RigidBody, World,
 };
 use crate::scene::MAX_BODIES;
-use crate::sim::command::{Command, SpawnKind};
-use crate::sim::recording::{RecordedCommand, Recording};
+use crate::sim::command::{Command, DT_RANGE, SpawnKind};
+use crate::sim::recording::{FileCommands, RecordedCommand, Recording, RecordingError};
 use crate::sim::saved_world::SavedWorld;
 use crate::sim::scenes::{self, CameraHint};
 use crate::sim::snapshot::{
@@ -35,9 +35,7 @@ const HISTORY_LEN: usize = 600;
 /// within a fraction of a second of starting.
 const RATE_WINDOW: Duration = Duration::from_millis(250);
 
-/// Bounds on the user-set step and time scale: beyond them the fixed-dt loop cannot keep up
-/// or the integrators lose their accuracy.
-const DT_RANGE: (f64, f64) = (1e-4, 0.05);
+/// Bounds on the user-set time scale: beyond them the fixed-dt loop cannot keep up.
 const TIME_SCALE_RANGE: (f64, f64) = (0.0, 10.0);
 
 /// A world with the viewer's run settings, the log of commands applied to it, and what its
@@ -120,8 +118,20 @@ impl Simulation {
     }
 
     /// A simulation that will apply the recording's commands at their ticks as it steps.
-    pub fn replaying(recording: &Recording) -> Result<Simulation, String> {
-        let mut sim = Simulation::new(&recording.scene)?;
+    /// The recording is checked first (see `Recording::check`): one holding a command that
+    /// reads or writes a file is refused unless `files` allows them. `file` names the
+    /// recording in errors.
+    pub fn replaying(
+        recording: &Recording,
+        file: &str,
+        files: FileCommands,
+    ) -> Result<Simulation, RecordingError> {
+        recording.check(file, files)?;
+        let mut sim =
+            Simulation::new(&recording.scene).map_err(|message| RecordingError::Scene {
+                file: file.to_string(),
+                message,
+            })?;
         sim.script = recording.commands.iter().cloned().collect();
         Ok(sim)
     }
@@ -150,9 +160,26 @@ impl Simulation {
         &self.settings
     }
 
+    /// The world as `Command::SaveWorld` writes it: with its scene, dt, hidden bodies and
+    /// material names, everything a run resumed from it needs.
+    pub fn saved_world(&self) -> SavedWorld {
+        SavedWorld {
+            scene: self.scene.clone(),
+            dt: self.settings.dt,
+            hidden: self.hidden.clone(),
+            materials: self.materials.clone(),
+            world: self.world.to_snapshot(),
+        }
+    }
+
     /// Applies one command; returns false for `Quit`. Commands that change the run are
-    /// logged for `recording`; saving and quitting are not.
+    /// logged for `recording`; saving and quitting are not. A command with a value the
+    /// simulation cannot run with (see `Command::check`) is refused with a message.
     pub fn apply(&mut self, command: Command) -> bool {
+        if let Err(message) = command.check() {
+            self.message = Some(format!("{} refused: {message}", command.name()));
+            return true;
+        }
         let changes_run = !matches!(
             command,
             Command::Quit | Command::SaveWorld(_) | Command::SaveRecording(_)
@@ -178,7 +205,7 @@ impl Simulation {
                 restitution,
                 friction,
             } => self.set_named_material(&name, restitution, friction),
-            Command::SetDt(dt) => self.settings.dt = dt.clamp(DT_RANGE.0, DT_RANGE.1),
+            Command::SetDt(dt) => self.settings.dt = dt,
             Command::SetTimeScale(s) => {
                 self.settings.time_scale = s.clamp(TIME_SCALE_RANGE.0, TIME_SCALE_RANGE.1)
             }
@@ -347,14 +374,7 @@ impl Simulation {
     }
 
     fn save_world(&mut self, path: &Path) {
-        let saved = SavedWorld {
-            scene: self.scene.clone(),
-            dt: self.settings.dt,
-            hidden: self.hidden.clone(),
-            materials: self.materials.clone(),
-            world: self.world.to_snapshot(),
-        };
-        self.message = saved.save(path).err();
+        self.message = self.saved_world().save(path).err();
     }
 
     /// Replaces the world by a saved one; the camera comes from its scene when that loads.

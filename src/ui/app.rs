@@ -14,7 +14,7 @@ use winit::window::{Window, WindowId};
 
 use crate::render::{FrameInput, OrbitCamera, Ray, Viewport};
 use crate::sim::snapshot::BodyPose;
-use crate::sim::{CameraHint, Command, Driver, Recording, Simulation, Snapshot};
+use crate::sim::{CameraHint, Command, Driver, FileCommands, Recording, Simulation, Snapshot};
 use crate::ui::display::{Display, UiFrame};
 use crate::ui::drag::Drag;
 use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel};
@@ -30,6 +30,8 @@ pub struct AppOptions {
     pub screenshot: Option<PathBuf>,
     /// Replay this recording (see `sim::recording`) instead of starting `scene` fresh.
     pub replay: Option<PathBuf>,
+    /// Whether the replay may run the recording's commands that read or write files.
+    pub replay_files: FileCommands,
 }
 
 /// Opens the viewer window and runs until it is closed (or `exit_after` passes).
@@ -59,6 +61,7 @@ pub fn run_in_browser() {
         exit_after: None,
         screenshot: None,
         replay: None,
+        replay_files: FileCommands::Refuse,
     };
     match prepare(options) {
         // Each redraw asks for the next one, so frames follow the page's refresh rate.
@@ -73,7 +76,12 @@ pub fn run_in_browser() {
 /// The simulation and the event loop, before any window exists.
 fn prepare(options: AppOptions) -> Result<(EventLoop<()>, App), String> {
     let simulation = match &options.replay {
-        Some(path) => Simulation::replaying(&Recording::load(path)?)?,
+        Some(path) => {
+            let recording = Recording::load(path).map_err(|e| e.to_string())?;
+            let file = path.display().to_string();
+            Simulation::replaying(&recording, &file, options.replay_files)
+                .map_err(|e| e.to_string())?
+        }
         None => Simulation::new(&options.scene)?,
     };
     let sim = Driver::start(simulation)?;

@@ -38,6 +38,21 @@ pub struct Material {
     pub friction: f64,
 }
 
+impl Material {
+    /// Density positive, restitution in [0, 1], friction in [0, `MAX_FRICTION`]: checked for
+    /// a new body (`BodyDesc::validate`) and a restored one (`WorldSnapshot::check`) alike.
+    /// `body` names the body in the error.
+    pub fn validate(&self, body: &str) -> Result<(), BodyError> {
+        let body = || body.to_string();
+        check_positive(&body, "material.density", self.density)?;
+        check_range(&body, "material.restitution", self.restitution, 0.0, 1.0)?;
+        check_range(&body, "material.friction", self.friction, 0.0, MAX_FRICTION)
+    }
+}
+
+/// The largest friction coefficient a body may have.
+pub const MAX_FRICTION: f64 = 10.0;
+
 impl Default for Material {
     fn default() -> Self {
         Material {
@@ -300,24 +315,51 @@ impl BodyDesc {
                 field: "rotation",
             });
         }
-        check_positive(&body, "material.density", self.material.density)?;
+        self.material.validate(&self.name)?;
         if let Some(mass) = self.mass {
             check_positive(&body, "mass", mass)?;
         }
-        check_range(
-            &body,
-            "material.restitution",
-            self.material.restitution,
-            0.0,
-            1.0,
-        )?;
-        check_range(
-            &body,
-            "material.friction",
-            self.material.friction,
-            0.0,
-            10.0,
-        )
+        Ok(())
+    }
+}
+
+impl BodyError {
+    /// The body's name.
+    pub fn body(&self) -> &str {
+        match self {
+            BodyError::Shape { body, .. }
+            | BodyError::NotFinite { body, .. }
+            | BodyError::NotPositive { body, .. }
+            | BodyError::MassNotInvertible { body, .. }
+            | BodyError::OutOfRange { body, .. } => body,
+        }
+    }
+
+    /// The offending field, as `BodyDesc` spells it (`shape` for any shape error).
+    pub fn field(&self) -> &'static str {
+        match self {
+            BodyError::Shape { .. } => "shape",
+            BodyError::NotFinite { field, .. }
+            | BodyError::NotPositive { field, .. }
+            | BodyError::MassNotInvertible { field, .. }
+            | BodyError::OutOfRange { field, .. } => field,
+        }
+    }
+
+    /// What is wrong with the field, with the value found, for messages that name the body
+    /// and field their own way.
+    pub fn reason(&self) -> String {
+        match self {
+            BodyError::Shape { source, .. } => source.to_string(),
+            BodyError::NotFinite { .. } => "must be finite".into(),
+            BodyError::NotPositive { value, .. } => format!("must be positive, got {value}"),
+            BodyError::OutOfRange {
+                value, min, max, ..
+            } => format!("must lie in [{min}, {max}], got {value}"),
+            BodyError::MassNotInvertible { mass, .. } => {
+                format!("gives a mass of {mass} kg, too small or too large to simulate")
+            }
+        }
     }
 }
 
