@@ -539,3 +539,31 @@ fn checked_accessors_answer_none_for_a_missing_body() {
     let panicked = std::panic::catch_unwind(|| World::default().body(missing).position);
     assert!(panicked.is_err());
 }
+
+#[test]
+fn a_body_released_at_rest_falls_on_long_steps_instead_of_sleeping_in_mid_air() {
+    // With steps as long as the time to sleep (0.5 s), the body counted its first step, at
+    // rest before it moved, as quiet and fell asleep at 100 m.
+    for dt in [0.5, 1.0] {
+        let mut world = world_with(
+            Integrator::Midpoint,
+            vec![EnvironmentForce::earth_gravity()],
+        );
+        let ball = add(
+            &mut world,
+            BodyDesc::dynamic(Shape::sphere(0.5)).at(DVec3::new(0.0, 100.0, 0.0)),
+        );
+        run(&mut world, dt, 2);
+        let body = world.body(ball);
+        // Semi-implicit Euler over the substeps h: after n of them the fall is g h² n(n+1)/2.
+        let substeps = world.settings.solver.substeps as f64;
+        let (h, n) = (dt / substeps, 2.0 * substeps);
+        let fallen = 9.81 * h * h * n * (n + 1.0) / 2.0;
+        assert!(!body.sleeping, "dt {dt}: asleep at y = {}", body.position.y);
+        assert!(
+            (100.0 - body.position.y - fallen).abs() < 1e-9 * fallen,
+            "dt {dt}: fell {} m, expected {fallen} m",
+            100.0 - body.position.y
+        );
+    }
+}

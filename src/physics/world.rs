@@ -397,10 +397,11 @@ impl World {
             timed(on, &mut times.narrow_phase, || {
                 self.narrow_phase(dt, &touched)
             });
-            timed(on, &mut times.islands, || self.islands_and_sleep(dt));
+            timed(on, &mut times.islands, || self.islands_and_sleep());
             let mut solve_and_integrate = 0.0;
             times.integrate = timed(on, &mut solve_and_integrate, || self.solve(dt));
             times.solve = (solve_and_integrate - times.integrate).max(0.0);
+            timed(on, &mut times.islands, || self.add_quiet_time(dt));
         } else {
             timed(on, &mut times.solve, || self.run_backwards(dt, &touched));
         }
@@ -425,9 +426,17 @@ impl World {
         );
     }
 
+    /// The awake bodies' quiet times, from the speeds the step left them with.
+    fn add_quiet_time(&mut self, dt: f64) {
+        if self.settings.sleep.enabled {
+            let awake = self.awake_set.awake(&self.bodies);
+            islands::add_quiet_time(&mut self.bodies, awake, dt, &self.settings.sleep);
+        }
+    }
+
     /// Islands fall asleep or wake; the manifolds between two idle bodies leave the solver.
-    fn islands_and_sleep(&mut self, dt: f64) {
-        self.update_sleep(dt);
+    fn islands_and_sleep(&mut self) {
+        self.update_sleep();
         let bodies = &self.bodies;
         self.manifolds
             .retain(|m| bodies[m.body_a.index()].is_awake() || bodies[m.body_b.index()].is_awake());
@@ -470,7 +479,7 @@ impl World {
 
     /// Islands of the awake bodies fall asleep or wake (see `islands`). With sleeping off,
     /// every body is woken once.
-    fn update_sleep(&mut self, dt: f64) {
+    fn update_sleep(&mut self) {
         if !self.settings.sleep.enabled {
             if !self.woken_for_no_sleep {
                 self.bodies
@@ -485,7 +494,7 @@ impl World {
             let awake = self.awake_set.awake(&self.bodies);
             let sleep = &self.settings.sleep;
             let scratch = &mut self.island_scratch;
-            if islands::update(&mut self.bodies, awake, &self.manifolds, dt, sleep, scratch) {
+            if islands::update(&mut self.bodies, awake, &self.manifolds, sleep, scratch) {
                 self.awake_set.invalidate();
             }
         }

@@ -51,23 +51,29 @@ pub struct IslandScratch {
 
 const NOT_A_MEMBER: u32 = u32::MAX;
 
-/// Updates the quiet times of the awake bodies, then puts to sleep or wakes the islands they
-/// form with the bodies they touch. Only the awake bodies and the sleeping bodies in this
-/// step's contacts are visited: bodies asleep apart from them stay as they are at no cost.
-/// Returns true when some body fell asleep or woke.
-pub fn update(
-    bodies: &mut [RigidBody],
-    awake: &[u32],
-    manifolds: &[ContactManifold],
-    dt: f64,
-    settings: &SleepSettings,
-    scratch: &mut IslandScratch,
-) -> bool {
+/// Adds `dt` to the quiet time of each awake body slow enough to sleep, and resets the others.
+/// Called after a step's motion: a body is quiet when the step left it slow, not when it
+/// started slow (a body released at rest would otherwise count a whole long step as quiet
+/// and fall asleep in mid-air before it ever moved).
+pub fn add_quiet_time(bodies: &mut [RigidBody], awake: &[u32], dt: f64, settings: &SleepSettings) {
     for &index in awake {
         let body = &mut bodies[index as usize];
         let quiet = body.kinetic_energy() < 0.5 * body.mass() * settings.sleep_speed.powi(2);
         body.quiet_time = if quiet { body.quiet_time + dt } else { 0.0 };
     }
+}
+
+/// Puts to sleep or wakes the islands the awake bodies form with the bodies they touch, by
+/// the quiet times of the steps before (`add_quiet_time`). Only the awake bodies and the
+/// sleeping bodies in this step's contacts are visited: bodies asleep apart from them stay
+/// as they are at no cost. Returns true when some body fell asleep or woke.
+pub fn update(
+    bodies: &mut [RigidBody],
+    awake: &[u32],
+    manifolds: &[ContactManifold],
+    settings: &SleepSettings,
+    scratch: &mut IslandScratch,
+) -> bool {
     let IslandScratch {
         members,
         member_of,
