@@ -474,6 +474,40 @@ fn a_body_that_goes_non_finite_is_isolated_the_same_step() {
     assert_eq!(world.faults().len(), 1, "reported once");
 }
 
+#[test]
+fn what_rested_on_an_isolated_body_wakes_and_falls() {
+    let mut world = world_with(Integrator::Midpoint, gravity());
+    let floor = Shape::cuboid(DVec3::new(5.0, 0.5, 5.0));
+    add(
+        &mut world,
+        BodyDesc::fixed(floor).at(DVec3::new(0.0, -0.5, 0.0)),
+    );
+    let cube = || Shape::cuboid(DVec3::splat(0.5));
+    let support = add(
+        &mut world,
+        BodyDesc::dynamic(cube()).at(DVec3::new(0.0, 0.5, 0.0)),
+    );
+    let top = add(
+        &mut world,
+        BodyDesc::dynamic(cube()).at(DVec3::new(0.0, 1.5, 0.0)),
+    );
+    let dt = 1.0 / 60.0;
+    run(&mut world, dt, 600);
+    assert!(
+        world.body(top).sleeping,
+        "the stack sleeps before the fault"
+    );
+    world
+        .body_mut(support)
+        .apply_force(DVec3::new(f64::NAN, 0.0, 0.0));
+    run(&mut world, dt, 60);
+    assert_eq!(world.body(support).motion, rigid::physics::Motion::Isolated);
+    // Without its support the top box falls 1 m onto the floor within the second (free
+    // fall takes 0.45 s), as it does when the support is removed.
+    let y = world.body(top).position.y;
+    assert!((y - 0.5).abs() < 0.02, "the top box is at y = {y}");
+}
+
 /// The stage profile splits a soft step's integration from its contact solve; the classic
 /// pipeline interleaves them, and counts both under solve. Unasked, no stage is timed.
 #[test]

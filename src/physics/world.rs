@@ -295,6 +295,19 @@ impl World {
             Some(Motion::Removed) => return Err(RemoveError::AlreadyRemoved(id.0)),
             Some(_) => {}
         }
+        self.wake_neighbours(index);
+        let body = &mut self.bodies[index];
+        body.motion = Motion::Removed;
+        body.sleeping = false;
+        body.linear_momentum = DVec3::ZERO;
+        body.angular_momentum = DVec3::ZERO;
+        self.awake_set.touch(index);
+        Ok(())
+    }
+
+    /// Wakes every sleeping body whose broad-phase box touches that of body `index` (its last
+    /// box: the body itself may no longer be finite).
+    fn wake_neighbours(&mut self, index: usize) {
         let reach = self
             .proxies
             .get(index)
@@ -304,13 +317,6 @@ impl World {
                 other.wake();
             }
         }
-        let body = &mut self.bodies[index];
-        body.motion = Motion::Removed;
-        body.sleeping = false;
-        body.linear_momentum = DVec3::ZERO;
-        body.angular_momentum = DVec3::ZERO;
-        self.awake_set.touch(index);
-        Ok(())
     }
 
     /// The body `id`.
@@ -665,8 +671,10 @@ impl World {
     /// ones.
     fn isolate_non_finite(&mut self, bodies: &[u32]) {
         for &index in bodies {
-            let body = &mut self.bodies[index as usize];
-            if needs_isolating(body) {
+            if needs_isolating(&self.bodies[index as usize]) {
+                // What rested on it must not stay asleep in mid-air, as on a removal.
+                self.wake_neighbours(index as usize);
+                let body = &mut self.bodies[index as usize];
                 body.motion = Motion::Isolated;
                 self.faults.push(Fault {
                     body: BodyId(index),
