@@ -32,7 +32,9 @@ pub use geometry::cast::{ShapeHit, cast_support_map, ray_cast_shape};
 pub use geometry::compound::{Compound, CompoundPart};
 pub use geometry::epa::{Penetration, SignedDistance, penetration, signed_distance};
 pub use geometry::gjk::{GjkResult, PosedShape, SupportMap, gjk_distance, gjk_intersects};
-pub use geometry::hull::{ConvexHull, HullError, HullFace, MAX_HULL_POINTS};
+pub use geometry::hull::{
+    CONTAINMENT_CHECK_BUDGET, ConvexHull, HullError, HullFace, MAX_HULL_POINTS,
+};
 pub use geometry::mass::MassProperties;
 pub use geometry::shape::{Pose, Shape, ShapeError};
 pub use query::{CastHit, QueryError, ray_cast, shape_cast};
