@@ -1,9 +1,15 @@
-//! Hostile scenes whose per-step memory once grew without bound: every list a step keeps is
-//! bounded by a world setting or a documented limit, and going over a budget is reported.
+//! Hostile inputs whose per-step memory or time once grew without bound: every list a step
+//! keeps is bounded by a world setting or a documented limit, going over a budget is
+//! reported, and shapes whose cost explodes are refused with the limit named.
+
+use std::sync::Arc;
 
 use glam::DVec3;
 use rigid::physics::collision::broad_phase::UniformGrid;
-use rigid::physics::{BodyDesc, BroadPhaseKind, DEFAULT_MAX_PAIRS, Shape, World, WorldSettings};
+use rigid::physics::{
+    AddBodyError, BodyDesc, BodyError, BroadPhaseKind, Compound, CompoundPart, DEFAULT_MAX_PAIRS,
+    MAX_COMPOUND_PARTS, Pose, Shape, ShapeError, World, WorldSettings,
+};
 
 /// 10 000 spheres created at one point overlap pairwise: 5·10⁷ pairs, for which the narrow
 /// phase once reserved 18 GB. The step keeps `max_pairs` of them and reports the rest,
@@ -90,4 +96,39 @@ fn a_body_at_light_speed_in_a_grid_world_takes_few_cells() {
     // Each of the ten slow spheres covers at most 2 × 2 × 2 cells; the fast one none.
     assert!(cells.len() <= 80, "{} cells", cells.len());
     assert!(world.bodies().iter().all(|b| b.is_finite()));
+}
+
+/// A compound of more than `MAX_COMPOUND_PARTS` parts is refused by `Compound::new` and,
+/// built by hand, by `World::add_body`, naming the body.
+#[test]
+fn compounds_past_the_part_limit_are_refused() {
+    let parts = |count: usize| {
+        (0..count)
+            .map(|i| CompoundPart {
+                pose: Pose::new(DVec3::X * i as f64, glam::DQuat::IDENTITY),
+                shape: Shape::sphere(0.4),
+            })
+            .collect::<Vec<_>>()
+    };
+    let too_many = MAX_COMPOUND_PARTS + 1;
+    assert_eq!(
+        Compound::new(parts(too_many)),
+        Err(ShapeError::TooManyParts(too_many))
+    );
+    assert!(Compound::new(parts(MAX_COMPOUND_PARTS)).is_ok());
+    let by_hand = Shape::Compound(Arc::new(Compound {
+        parts: parts(too_many),
+    }));
+    let error = World::default()
+        .add_body(BodyDesc::dynamic(by_hand).named("rake"))
+        .unwrap_err();
+    assert_eq!(
+        error,
+        AddBodyError::Invalid(BodyError::Shape {
+            body: "rake".into(),
+            source: ShapeError::TooManyParts(too_many),
+        })
+    );
+    assert!(error.to_string().contains("'rake'"), "{error}");
+    assert!(error.to_string().contains("MAX_COMPOUND_PARTS"), "{error}");
 }

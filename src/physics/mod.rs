@@ -29,7 +29,7 @@ pub use dynamics::integrate::Integrator;
 pub use dynamics::islands::SleepSettings;
 pub use geometry::aabb::Aabb;
 pub use geometry::cast::{ShapeHit, cast_support_map, ray_cast_shape};
-pub use geometry::compound::{Compound, CompoundPart};
+pub use geometry::compound::{Compound, CompoundPart, MAX_COMPOUND_PARTS};
 pub use geometry::epa::{Penetration, SignedDistance, penetration, signed_distance};
 pub use geometry::gjk::{GjkResult, PosedShape, SupportMap, gjk_distance, gjk_intersects};
 pub use geometry::hull::{
