@@ -515,6 +515,14 @@ fn print_summary(
     wall: f64,
     initial: &WorldTotals,
 ) -> Result<(), String> {
+    // On stderr, as the summary on stdout may be read by a script.
+    if let Some(fault) = world.pair_budget_fault() {
+        eprintln!(
+            "warning: {} step(s) found more than max_pairs ({}) candidate pairs and left the \
+             rest without contacts, the last at step {}",
+            fault.steps_over, fault.max_pairs, fault.step
+        );
+    }
     let text = summary(label, world, dt, wall, initial);
     match std::io::stdout().lock().write_all(text.as_bytes()) {
         Err(error) if error.kind() != ErrorKind::BrokenPipe => {

@@ -62,10 +62,11 @@ pub struct WorldSettings {
     pub max_pairs: usize,
 }
 
-/// `WorldSettings::max_pairs` by default: about a gigabyte of per-pair lists, 20 pairs per
-/// body at `MAX_BODIES` (a dense pile has under 10). 10 000 spheres created at one point
-/// make 5·10⁷ pairs and once asked the narrow phase for 18 GB.
-pub const DEFAULT_MAX_PAIRS: usize = 2_000_000;
+/// `WorldSettings::max_pairs` by default: 10 pairs per body at `MAX_BODIES`, as many as a
+/// dense pile has. A step over it peaks near 2.6 GB (about 2.6 kB per pair across the
+/// narrow phase's and solver's lists); 10 000 spheres created at one point make 5·10⁷
+/// pairs and once asked the narrow phase alone for 18 GB.
+pub const DEFAULT_MAX_PAIRS: usize = 1_000_000;
 
 impl Default for WorldSettings {
     fn default() -> Self {
