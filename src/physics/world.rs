@@ -106,7 +106,8 @@ pub enum Pipeline {
 /// Each `step(dt)`, dt in s, runs the broad phase, the narrow phase, islands and sleep, then
 /// the chosen contact pipeline (`Pipeline`) with the forces and integration; a negative dt
 /// runs the bodies backwards without contacts. A body whose state stops being finite is
-/// isolated and listed in `faults`. The last step's results are read with
+/// isolated and listed in `faults`; a step that finds more candidate pairs than
+/// `settings.max_pairs` keeps that many and is reported by `pair_budget_fault`. The last step's results are read with
 /// `contacts`, `max_penetration`, `awake_count`, `pair_count`, `stage_times` and
 /// `classic_report`; `totals` sums energy and momentum. `ray_cast` and `shape_cast` query
 /// the bodies, and `to_snapshot` / `from_snapshot` save a world and continue it exactly.
