@@ -6,7 +6,9 @@ use std::path::PathBuf;
 
 use glam::DVec3;
 use rigid::physics::{BroadPhaseKind, Integrator, Pipeline};
-use rigid::sim::{Command, FileCommands, Recording, Simulation, SpawnKind};
+use rigid::sim::{
+    Command, FileCommands, MAX_RECORDING_TICKS, Recording, RecordingError, Simulation, SpawnKind,
+};
 
 /// A user session: spawns of every kind, pushes, live setting changes, a pipeline switch,
 /// a single step while paused, a reset and a scene change.
@@ -167,6 +169,25 @@ fn bad_recordings_and_saved_worlds_are_reported() {
             .to_string()
             .contains("after the end")
     );
+
+    // A recording of 10¹² ticks once replayed for ever; past the limit it is refused, naming
+    // the field and the limit. The limit itself is accepted.
+    let endless = "(scene: \"x\", ticks: 1000000000000, commands: [])";
+    let error = Recording::from_ron(endless, "r.ron").unwrap_err();
+    assert_eq!(
+        error,
+        RecordingError::TooLong {
+            file: "r.ron".into(),
+            ticks: 1_000_000_000_000
+        }
+    );
+    let message = error.to_string();
+    assert!(
+        message.contains("'ticks'") && message.contains("MAX_RECORDING_TICKS"),
+        "{message}"
+    );
+    let longest = format!("(scene: \"x\", ticks: {MAX_RECORDING_TICKS}, commands: [])");
+    assert!(Recording::from_ron(&longest, "r.ron").is_ok());
 
     let path = scratch("garbage.world.ron");
     std::fs::write(

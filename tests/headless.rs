@@ -615,3 +615,27 @@ fn a_local_file_named_like_a_built_in_scene_is_noted() {
     assert!(out.stderr.is_empty(), "{out:?}");
     assert!(String::from_utf8_lossy(&out.stdout).contains("scene            free_fall (./stack)"));
 }
+
+/// 1 500 spheres created at one point make 1 124 250 pairs, more than the default pair
+/// budget: the run keeps going and says on stderr that pairs were left out.
+#[test]
+fn a_step_over_the_pair_budget_is_reported() {
+    let scene = write_scene(
+        "pile_at_one_point.ron",
+        r#"Scene(
+    name: "pile",
+    settings: (dt: 0.01),
+    bodies: [
+        (name: "ball", shape: Sphere(radius: 0.5),
+         repeat: Grid(count: (1500, 1, 1), spacing: (0.0, 0.0, 0.0))),
+    ],
+)"#,
+    );
+    let output = headless(&["--scene", scene.to_str().unwrap(), "--steps", "1"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning: 1 step(s) found more than max_pairs (1000000) candidate pairs"),
+        "{stderr}"
+    );
+}

@@ -6,7 +6,7 @@ mod common;
 use common::garble::{apply, edit_strategy, number};
 use glam::DVec3;
 use proptest::prelude::*;
-use rigid::physics::Motion;
+use rigid::physics::{MAX_COMPOUND_PARTS, Motion};
 use rigid::scene::{self, DEFAULT_SCENE, MAX_BODIES, SceneError, builtin_scenes, find_builtin};
 
 const FILE: &str = "scenes/test.ron";
@@ -624,4 +624,33 @@ fn an_unknown_material_in_a_scene_without_materials_says_so() {
     );
     let message = body_error(r#"name: "ball", shape: Sphere(radius: 1.0), material: "steel""#);
     assert!(message.ends_with("(defined: rubber)"), "{message}");
+}
+
+/// A compound of more than `MAX_COMPOUND_PARTS` parts is refused, naming the body and the
+/// field: two compounds of 3 000 parts once took 0.75 s a step.
+#[test]
+fn too_many_compound_parts_are_refused() {
+    let part = "(shape: Sphere(radius: 0.1))";
+    let parts = |count: usize| vec![part; count].join(", ");
+    let message = body_error(&format!(
+        r#"name: "cloud", shape: Compound(parts: [{}])"#,
+        parts(MAX_COMPOUND_PARTS + 1)
+    ));
+    assert_names(&message, "'cloud'", "shape.parts");
+    assert!(
+        message.contains(&format!(
+            "{} parts, more than MAX_COMPOUND_PARTS",
+            MAX_COMPOUND_PARTS + 1
+        )),
+        "{message}"
+    );
+    // The most allowed builds.
+    let text = scene_with(
+        "",
+        &format!(
+            r#"name: "cloud", shape: Compound(parts: [{}])"#,
+            parts(MAX_COMPOUND_PARTS)
+        ),
+    );
+    assert!(scene::parse(&text, FILE).is_ok());
 }

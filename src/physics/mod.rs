@@ -29,10 +29,12 @@ pub use dynamics::integrate::Integrator;
 pub use dynamics::islands::SleepSettings;
 pub use geometry::aabb::Aabb;
 pub use geometry::cast::{ShapeHit, cast_support_map, ray_cast_shape};
-pub use geometry::compound::{Compound, CompoundPart};
+pub use geometry::compound::{Compound, CompoundPart, MAX_COMPOUND_PARTS};
 pub use geometry::epa::{Penetration, SignedDistance, penetration, signed_distance};
 pub use geometry::gjk::{GjkResult, PosedShape, SupportMap, gjk_distance, gjk_intersects};
-pub use geometry::hull::{ConvexHull, HullError, HullFace, MAX_HULL_POINTS};
+pub use geometry::hull::{
+    CONTAINMENT_CHECK_BUDGET, ConvexHull, HullError, HullFace, MAX_HULL_POINTS,
+};
 pub use geometry::mass::MassProperties;
 pub use geometry::shape::{Pose, Shape, ShapeError};
 pub use query::{CastHit, QueryError, ray_cast, shape_cast};
@@ -44,6 +46,6 @@ pub use solver::toi::{
 };
 pub use stage_times::StageTimes;
 pub use world::{
-    AddBodyError, Fault, MAX_BODIES, MAX_STEP, Pipeline, RemoveError, StepError, World,
-    WorldSettings, WorldTotals,
+    AddBodyError, DEFAULT_MAX_PAIRS, Fault, MAX_BODIES, MAX_STEP, PairBudgetFault, Pipeline,
+    RemoveError, StepError, World, WorldSettings, WorldTotals,
 };

@@ -41,7 +41,7 @@ use crate::physics::solver::soft::{
 use crate::physics::stage_times::{StageTimes, timed};
 
 /// How a world steps: `World::settings`, which may be changed between steps.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct WorldSettings {
     /// How the bodies' poses are advanced, in either pipeline.
@@ -56,6 +56,30 @@ pub struct WorldSettings {
     pub classic: ClassicSettings,
     /// When islands of bodies fall asleep.
     pub sleep: SleepSettings,
+    /// Most candidate pairs a step keeps (`DEFAULT_MAX_PAIRS` unless changed). Every
+    /// per-pair list of a step (pairs, manifolds, contacts) is bounded by it; beyond it the
+    /// extra pairs get no contacts that step and `World::pair_budget_fault` says so.
+    pub max_pairs: usize,
+}
+
+/// `WorldSettings::max_pairs` by default: 10 pairs per body at `MAX_BODIES`, as many as a
+/// dense pile has. A step over it peaks near 2.6 GB (about 2.6 kB per pair across the
+/// narrow phase's and solver's lists); 10 000 spheres created at one point make 5·10⁷
+/// pairs and once asked the narrow phase alone for 18 GB.
+pub const DEFAULT_MAX_PAIRS: usize = 1_000_000;
+
+impl Default for WorldSettings {
+    fn default() -> Self {
+        WorldSettings {
+            integrator: Integrator::default(),
+            pipeline: Pipeline::default(),
+            broad_phase: BroadPhaseKind::default(),
+            solver: SoftSolverSettings::default(),
+            classic: ClassicSettings::default(),
+            sleep: SleepSettings::default(),
+            max_pairs: DEFAULT_MAX_PAIRS,
+        }
+    }
 }
 
 /// How contacts are handled; switchable between steps.
@@ -82,7 +106,8 @@ pub enum Pipeline {
 /// Each `step(dt)`, dt in s, runs the broad phase, the narrow phase, islands and sleep, then
 /// the chosen contact pipeline (`Pipeline`) with the forces and integration; a negative dt
 /// runs the bodies backwards without contacts. A body whose state stops being finite is
-/// isolated and listed in `faults`. The last step's results are read with
+/// isolated and listed in `faults`; a step that finds more candidate pairs than
+/// `settings.max_pairs` keeps that many and is reported by `pair_budget_fault`. The last step's results are read with
 /// `contacts`, `max_penetration`, `awake_count`, `pair_count`, `stage_times` and
 /// `classic_report`; `totals` sums energy and momentum. `ray_cast` and `shape_cast` query
 /// the bodies, and `to_snapshot` / `from_snapshot` save a world and continue it exactly.
@@ -128,6 +153,8 @@ pub struct World {
     time: f64,
     steps: u64,
     faults: Vec<Fault>,
+    /// The last step that went over `settings.max_pairs`, if any did.
+    pair_budget_fault: Option<PairBudgetFault>,
 }
 
 impl Default for World {
@@ -188,6 +215,21 @@ pub struct Fault {
     pub time: f64,
 }
 
+/// A step whose broad phase found more pairs than `WorldSettings::max_pairs`: it kept that
+/// many and left the others without contacts, so bodies of those pairs may pass through
+/// each other that step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PairBudgetFault {
+    /// The last step that went over the budget, counted from 0.
+    pub step: u64,
+    /// Simulated time at the start of that step, s.
+    pub time: f64,
+    /// The budget it went over, pairs.
+    pub max_pairs: usize,
+    /// Steps so far that went over the budget.
+    pub steps_over: u64,
+}
+
 /// Totals over all dynamic bodies, for summaries and conservation checks.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WorldTotals {
@@ -230,6 +272,7 @@ impl World {
             time: 0.0,
             steps: 0,
             faults: Vec::new(),
+            pair_budget_fault: None,
         }
     }
 
@@ -606,7 +649,17 @@ impl World {
             }
         }
         let awake = self.awake_set.awake(&self.bodies);
-        (self.broad_phase).fill_pairs(&self.proxies, awake, idle_changed, &mut self.pairs);
+        let limit = self.settings.max_pairs;
+        let (proxies, pairs) = (&self.proxies, &mut self.pairs);
+        if (self.broad_phase).fill_pairs_within(proxies, awake, idle_changed, pairs, limit) {
+            let steps_over = self.pair_budget_fault.as_ref().map_or(0, |f| f.steps_over);
+            self.pair_budget_fault = Some(PairBudgetFault {
+                step: self.steps,
+                time: self.time,
+                max_pairs: limit,
+                steps_over: steps_over + 1,
+            });
+        }
     }
 
     /// The soft pipeline's step: forces, integration and contacts together, in substeps (see
@@ -639,6 +692,12 @@ impl World {
     /// Bodies isolated so far because their state went non-finite (NaN or infinity).
     pub fn faults(&self) -> &[Fault] {
         &self.faults
+    }
+
+    /// The last step whose broad phase found more pairs than `settings.max_pairs`, with the
+    /// number of such steps; None while no step did.
+    pub fn pair_budget_fault(&self) -> Option<&PairBudgetFault> {
+        self.pair_budget_fault.as_ref()
     }
 
     /// The forward substeps undone in reverse order: without contacts and with forces that do

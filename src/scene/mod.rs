@@ -40,7 +40,9 @@
 //! `AxisAngle(axis: (..), degrees: ..)`. Angular velocities are in rad/s. Generators:
 //! `repeat: Grid(count: (nx, ny, nz), spacing: (..), stagger: (..))` and
 //! `repeat: Pyramid(layers: n, spacing: (dx, dy))`; copies are named `name_0`, `name_1`, ….
-//! A scene may make at most [`MAX_BODIES`] bodies; `settings.dt` must lie in [`DT_RANGE`].
+//! A scene may make at most [`MAX_BODIES`] bodies; `settings.dt` must lie in [`DT_RANGE`]; a
+//! hull takes at most `MAX_HULL_POINTS` points and a compound at most `MAX_COMPOUND_PARTS`
+//! parts.
 
 mod build;
 mod builtin;

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use glam::DQuat;
 
 use crate::physics::geometry::shape::MAX_EXTENT;
-use crate::physics::{Compound, CompoundPart, Pose, Shape};
+use crate::physics::{Compound, CompoundPart, MAX_COMPOUND_PARTS, Pose, Shape};
 use crate::scene::error::FieldError;
 use crate::scene::file::{PartSpec, Rotation, ShapeSpec};
 use crate::scene::validate::{extent, finite, vector};
@@ -61,6 +61,12 @@ fn build_hull(points: &[glam::DVec3]) -> Result<Shape, FieldError> {
 fn build_compound(parts: &[PartSpec]) -> Result<Shape, FieldError> {
     if parts.is_empty() {
         return Err(FieldError::new("parts", "must hold at least one part"));
+    }
+    // Refused before any part is built.
+    if parts.len() > MAX_COMPOUND_PARTS {
+        let count = parts.len();
+        let message = format!("{count} parts, more than MAX_COMPOUND_PARTS ({MAX_COMPOUND_PARTS})");
+        return Err(FieldError::new("parts", message));
     }
     let parts = parts
         .iter()

@@ -22,7 +22,9 @@ pub mod thread;
 
 pub use command::{Command, SpawnKind};
 pub use frame_loop::FrameLoop;
-pub use recording::{FileCommands, RecordedCommand, Recording, RecordingError};
+pub use recording::{
+    FileCommands, MAX_RECORDING_TICKS, RecordedCommand, Recording, RecordingError,
+};
 pub use saved_world::SavedWorld;
 pub use scenes::{CameraHint, DEFAULT_SCENE, SceneSetup, scene_names};
 pub use simulation::Simulation;

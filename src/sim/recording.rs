@@ -10,6 +10,10 @@ use thiserror::Error;
 
 use crate::sim::command::Command;
 
+/// Most ticks a recording may run: 48 days of a session at a 1/240 s step. A replay has no
+/// other end, and `ticks` of 10¹² once replayed for ever.
+pub const MAX_RECORDING_TICKS: u64 = 1_000_000_000;
+
 /// Whether a replay may run the commands that read or write files they name (`SaveWorld`,
 /// `SaveRecording`, `LoadWorld`, `LoadScene` of a file): a recording can come from anyone,
 /// and replaying it must not overwrite or read the user's files unless asked to.
@@ -71,6 +75,16 @@ pub enum RecordingError {
         /// The path it names.
         target: String,
     },
+    /// `ticks` is more than `MAX_RECORDING_TICKS`.
+    #[error(
+        "{file}: field 'ticks': {ticks}, more than MAX_RECORDING_TICKS ({MAX_RECORDING_TICKS})"
+    )]
+    TooLong {
+        /// The recording's name.
+        file: String,
+        /// The ticks it asks for.
+        ticks: u64,
+    },
     /// The scene the recording starts from cannot be built.
     #[error("{file}: {message}")]
     Scene {
@@ -123,9 +137,16 @@ impl Recording {
         Ok(recording)
     }
 
-    /// Commands in tick order, none after `ticks`, every value runnable, and, unless
-    /// `files` allows them, no command that reads or writes a file.
+    /// At most `MAX_RECORDING_TICKS` ticks, commands in tick order, none after `ticks`,
+    /// every value runnable, and, unless `files` allows them, no command that reads or
+    /// writes a file.
     pub fn check(&self, file: &str, files: FileCommands) -> Result<(), RecordingError> {
+        if self.ticks > MAX_RECORDING_TICKS {
+            return Err(RecordingError::TooLong {
+                file: file.to_string(),
+                ticks: self.ticks,
+            });
+        }
         let ticks = |message: String| RecordingError::Ticks {
             file: file.to_string(),
             message,

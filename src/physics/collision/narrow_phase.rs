@@ -92,9 +92,9 @@ pub fn find_manifolds(
         manifolds: std::mem::take(manifolds),
         remembered: std::mem::take(&mut scratch.spare),
     };
+    // No room is reserved for one manifold per pair: in a pile most pairs are apart, and
+    // the lists, kept between steps, grow to what the scene needs and stay there.
     found.clear();
-    found.manifolds.reserve(pairs.len());
-    found.remembered.reserve(pairs.len());
     let memory_read: &ManifoldMemory = memory;
     if rayon::current_num_threads() == 1 {
         // Handing the work to a pool of one thread only adds its wake-ups.

@@ -10,7 +10,7 @@ use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::physics::geometry::compound::Compound;
+use crate::physics::geometry::compound::{Compound, MAX_COMPOUND_PARTS};
 use crate::physics::geometry::hull::ConvexHull;
 
 /// Smallest extent (m: a radius, half-extent or half-height) a shape may have. Outside
@@ -80,6 +80,9 @@ pub enum ShapeError {
     /// valid; the message says which.
     #[error("compound: {0}")]
     Compound(String),
+    /// A compound has more than `MAX_COMPOUND_PARTS` parts; holds the count.
+    #[error("compound: parts: {0}, more than MAX_COMPOUND_PARTS ({MAX_COMPOUND_PARTS})")]
+    TooManyParts(usize),
 }
 
 impl Shape {

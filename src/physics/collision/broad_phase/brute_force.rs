@@ -8,14 +8,23 @@ use crate::physics::collision::broad_phase::{BodyPair, BroadPhase, Proxy, wants_
 pub struct BruteForce;
 
 impl BroadPhase for BruteForce {
-    fn fill_pairs(&mut self, proxies: &[Proxy], pairs: &mut Vec<BodyPair>) {
+    fn fill_pairs_within(
+        &mut self,
+        proxies: &[Proxy],
+        pairs: &mut Vec<BodyPair>,
+        limit: usize,
+    ) -> bool {
         pairs.clear();
         for (i, p) in proxies.iter().enumerate() {
             for (j, q) in proxies.iter().enumerate().skip(i + 1) {
                 if wants_pair(p, q) {
+                    if pairs.len() >= limit {
+                        return true;
+                    }
                     pairs.push(BodyPair::new(i, j));
                 }
             }
         }
+        false
     }
 }

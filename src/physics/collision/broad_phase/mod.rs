@@ -22,7 +22,7 @@ mod uniform_grid;
 pub use aabb_tree::AabbTree;
 pub use brute_force::BruteForce;
 pub use sweep_and_prune::SweepAndPrune;
-pub use uniform_grid::UniformGrid;
+pub use uniform_grid::{MAX_CELLS_PER_PROXY, UniformGrid};
 
 use serde::{Deserialize, Serialize};
 
@@ -86,7 +86,19 @@ pub trait BroadPhase {
     /// with the overlapping pairs, sorted and without duplicates. The caller keeps `pairs`
     /// between steps, so a step reuses its memory. Implementations may keep state between
     /// calls.
-    fn fill_pairs(&mut self, proxies: &[Proxy], pairs: &mut Vec<BodyPair>);
+    fn fill_pairs(&mut self, proxies: &[Proxy], pairs: &mut Vec<BodyPair>) {
+        self.fill_pairs_within(proxies, pairs, usize::MAX);
+    }
+
+    /// `fill_pairs`, keeping at most `limit` pairs: the search stops once that many are
+    /// found, so a pile of bodies at one point costs `limit` pairs of memory rather than
+    /// n²/2. Returns whether pairs were left out; which ones is fixed for given proxies.
+    fn fill_pairs_within(
+        &mut self,
+        proxies: &[Proxy],
+        pairs: &mut Vec<BodyPair>,
+        limit: usize,
+    ) -> bool;
 
     /// `fill_pairs` into a new list.
     fn find_pairs(&mut self, proxies: &[Proxy]) -> Vec<BodyPair> {
@@ -169,6 +181,19 @@ impl SplitBroadPhase {
         idle_changed: bool,
         pairs: &mut Vec<BodyPair>,
     ) {
+        self.fill_pairs_within(proxies, awake, idle_changed, pairs, usize::MAX);
+    }
+
+    /// `fill_pairs`, keeping at most `limit` pairs (see `BroadPhase::fill_pairs_within`);
+    /// returns whether pairs were left out.
+    pub fn fill_pairs_within(
+        &mut self,
+        proxies: &[Proxy],
+        awake: &[u32],
+        idle_changed: bool,
+        pairs: &mut Vec<BodyPair>,
+        limit: usize,
+    ) -> bool {
         if idle_changed || !self.built {
             self.built = true;
             let idle = proxies.iter().enumerate().filter(|(_, p)| !p.active);
@@ -180,7 +205,8 @@ impl SplitBroadPhase {
             .extend(awake.iter().map(|&i| proxies[i as usize]));
         // The awake phase's pairs come sorted, and `awake` ascends, so renaming them keeps
         // them sorted: only the pairs with an idle body need sorting, then the two merge.
-        (self.awake_phase).fill_pairs(&self.awake_proxies, &mut self.awake_pairs);
+        let mut truncated =
+            (self.awake_phase).fill_pairs_within(&self.awake_proxies, &mut self.awake_pairs, limit);
         for pair in &mut self.awake_pairs {
             *pair = BodyPair::new(
                 awake[pair.a.index()] as usize,
@@ -190,14 +216,25 @@ impl SplitBroadPhase {
         debug_assert!(self.awake_pairs.is_sorted());
         let idle_pairs = &mut self.idle_pairs;
         idle_pairs.clear();
+        // Room for the idle pairs is what the awake ones left: the merged list stays
+        // within `limit`.
+        let room = limit.saturating_sub(self.awake_pairs.len());
         for &i in awake {
             let aabb = &proxies[i as usize].aabb;
             self.idle.query(aabb, |j| {
-                idle_pairs.push(BodyPair::new(i as usize, j as usize))
+                if idle_pairs.len() < room {
+                    idle_pairs.push(BodyPair::new(i as usize, j as usize));
+                } else {
+                    truncated = true;
+                }
             });
+            if truncated && idle_pairs.len() >= room {
+                break;
+            }
         }
         sort_pairs(idle_pairs);
         merge_sorted(&self.awake_pairs, idle_pairs, pairs);
+        truncated
     }
 }
 

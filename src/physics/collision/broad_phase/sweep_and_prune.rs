@@ -103,7 +103,12 @@ fn widest_axis(proxies: &[Proxy]) -> usize {
 }
 
 impl BroadPhase for SweepAndPrune {
-    fn fill_pairs(&mut self, proxies: &[Proxy], pairs: &mut Vec<BodyPair>) {
+    fn fill_pairs_within(
+        &mut self,
+        proxies: &[Proxy],
+        pairs: &mut Vec<BodyPair>,
+        limit: usize,
+    ) -> bool {
         self.track_body_count(proxies.len());
         let axis = widest_axis(proxies);
         // Where `Interval::of` puts each box: a box with a NaN bound goes last, as `EMPTY`.
@@ -117,18 +122,24 @@ impl BroadPhase for SweepAndPrune {
         (self.intervals)
             .extend((self.order.iter()).map(|&i| Interval::of(&proxies[i as usize], i, axis)));
         self.swept.clear();
-        for (k, p) in self.intervals.iter().enumerate() {
+        let mut truncated = false;
+        'sweep: for (k, p) in self.intervals.iter().enumerate() {
             for q in &self.intervals[k + 1..] {
                 if q.start > p.end {
                     break;
                 }
                 if p.wants_pair(q) {
+                    if self.swept.len() >= limit {
+                        truncated = true;
+                        break 'sweep;
+                    }
                     self.swept
                         .push(BodyPair::new(p.body as usize, q.body as usize));
                 }
             }
         }
         sorted_by_first_body(&self.swept, proxies.len(), &mut self.starts, pairs);
+        truncated
     }
 }
 

@@ -8,9 +8,11 @@ use glam::DVec3;
 use crate::physics::collision::broad_phase::{BodyPair, BroadPhase, Proxy, sort_pairs, wants_pair};
 use crate::physics::geometry::aabb::Aabb;
 
-/// A box covering more cells than this (a ground slab) is kept aside and tested against
-/// every other box instead of being written into thousands of cells.
-const MAX_CELLS_PER_PROXY: i64 = 64;
+/// A box covering more cells than this (a ground slab, a body at 3e8 m/s, any box in a
+/// world of tiny cells) is kept aside and tested against every other box instead of being
+/// written into thousands of cells. The grid so never holds more than this many cells per
+/// box, whatever the cell size or speeds.
+pub const MAX_CELLS_PER_PROXY: u64 = 64;
 
 type Cell = (i32, i32, i32);
 
@@ -47,11 +49,23 @@ impl UniformGrid {
         (index(aabb.min), index(aabb.max))
     }
 
-    /// Whether a box is kept aside rather than written into its cells.
+    /// Whether a box is kept aside rather than written into its cells. Each axis can span
+    /// 2³² cells, so the product is taken with checked arithmetic: wrapped, it once read a
+    /// box of 2⁹⁶ cells as one of none and the rebuild tried to fill them all.
     fn is_oversized(&self, aabb: &Aabb) -> bool {
         let (lo, hi) = self.cell_range(aabb);
-        let count = |a: i32, b: i32| i64::from(b) - i64::from(a) + 1;
-        count(lo.0, hi.0) * count(lo.1, hi.1) * count(lo.2, hi.2) > MAX_CELLS_PER_PROXY
+        // Empty when hi < lo (an inverted box), which covers no cell.
+        let count = |a: i32, b: i32| u64::try_from(i64::from(b) - i64::from(a) + 1).unwrap_or(0);
+        let cells = count(lo.0, hi.0)
+            .checked_mul(count(lo.1, hi.1))
+            .and_then(|c| c.checked_mul(count(lo.2, hi.2)));
+        cells.is_none_or(|c| c > MAX_CELLS_PER_PROXY)
+    }
+
+    /// Cells the grid holds after the last call: those written by it or by the call before
+    /// (kept for reuse), so at most 2 × `MAX_CELLS_PER_PROXY` per box.
+    pub fn cell_count(&self) -> usize {
+        self.cells.len()
     }
 
     /// The cells the given boxes are written into, as boxes, each once and in a fixed order
@@ -87,7 +101,13 @@ impl UniformGrid {
     }
 
     fn rebuild(&mut self, proxies: &[Proxy]) {
-        self.cells.values_mut().for_each(Vec::clear);
+        // Cells the last call left empty are dropped rather than kept: a fast body enters
+        // new cells every step, and keeping the ones it left grew the map without end.
+        self.cells.retain(|_, members| {
+            let used = !members.is_empty();
+            members.clear();
+            used
+        });
         self.oversized.clear();
         for (index, proxy) in proxies.iter().enumerate() {
             if self.is_oversized(&proxy.aabb) {
@@ -107,29 +127,58 @@ impl UniformGrid {
 }
 
 impl BroadPhase for UniformGrid {
-    fn fill_pairs(&mut self, proxies: &[Proxy], pairs: &mut Vec<BodyPair>) {
+    fn fill_pairs_within(
+        &mut self,
+        proxies: &[Proxy],
+        pairs: &mut Vec<BodyPair>,
+        limit: usize,
+    ) -> bool {
         self.rebuild(proxies);
         pairs.clear();
-        let mut test = |i: u32, j: u32| {
-            if i != j && wants_pair(&proxies[i as usize], &proxies[j as usize]) {
-                pairs.push(BodyPair::new(i as usize, j as usize));
+        // False for a new pair once `limit` distinct pairs are held. A pair sharing several
+        // cells is found once per cell, so duplicates are dropped before concluding that
+        // the list is full; once full it stays sorted, and a pair it holds is no loss.
+        let mut full = false;
+        let mut keep = |i: u32, j: u32| {
+            if i == j || !wants_pair(&proxies[i as usize], &proxies[j as usize]) {
+                return true;
             }
+            let pair = BodyPair::new(i as usize, j as usize);
+            if !full && pairs.len() >= limit {
+                sort_pairs(pairs);
+                pairs.dedup();
+                full = pairs.len() >= limit;
+            }
+            if full {
+                return pairs.binary_search(&pair).is_ok();
+            }
+            pairs.push(pair);
+            true
         };
-        for members in self.cells.values() {
+        let mut truncated = false;
+        'cells: for members in self.cells.values() {
             for (k, &i) in members.iter().enumerate() {
                 for &j in &members[k + 1..] {
-                    test(i, j);
+                    if !keep(i, j) {
+                        truncated = true;
+                        break 'cells;
+                    }
                 }
             }
         }
-        for &i in &self.oversized {
-            for j in 0..proxies.len() as u32 {
-                test(i, j);
+        if !truncated {
+            'oversized: for &i in &self.oversized {
+                for j in 0..proxies.len() as u32 {
+                    if !keep(i, j) {
+                        truncated = true;
+                        break 'oversized;
+                    }
+                }
             }
         }
-        // A pair sharing several cells is found once per cell.
         sort_pairs(pairs);
         pairs.dedup();
+        truncated
     }
 }
 
@@ -166,5 +215,57 @@ mod tests {
         // A ground slab covering thousands of cells is kept aside, as in `find_pairs`.
         let slab = aabb([-50.0, -1.0, -50.0], [50.0, 0.0, 50.0]);
         assert!(grid.occupied_cells(&[slab]).is_empty());
+    }
+
+    /// A box spanning every cell index on all three axes (2³² each) covers 2⁹⁶ cells. The
+    /// product wrapped to 0 in i64, so such a box was written into every one of its cells.
+    #[test]
+    fn a_box_spanning_all_cell_indices_is_oversized() {
+        let grid = UniformGrid::new(1e-3);
+        let huge = aabb([-1e300; 3], [1e300; 3]);
+        assert!(grid.is_oversized(&huge));
+        assert!(grid.occupied_cells(&[huge]).is_empty());
+        // 2³² × 2³² × 1 cells: the product of two axes alone overflows 64 bits.
+        let sheet = aabb([-1e300, -1e300, 0.0], [1e300, 1e300, 0.0005]);
+        assert!(grid.is_oversized(&sheet));
+        // 4 × 4 × 4 = MAX_CELLS_PER_PROXY cells is still written in; one more layer is not.
+        assert!(!grid.is_oversized(&aabb([0.0; 3], [0.0039; 3])));
+        assert!(grid.is_oversized(&aabb([0.0; 3], [0.0039, 0.0039, 0.0049])));
+    }
+
+    /// A body crossing new cells every call leaves no trail of empty cells: the grid holds
+    /// only the cells of the last two calls' boxes.
+    #[test]
+    fn cells_left_behind_are_dropped() {
+        let mut grid = UniformGrid::new(1.0);
+        let proxy = |x: f64| Proxy {
+            aabb: aabb([x, 0.1, 0.1], [x + 0.5, 0.4, 0.4]),
+            active: true,
+        };
+        for step in 0..1000 {
+            grid.find_pairs(&[proxy(10.0 * step as f64), proxy(-3.0)]);
+            // The still box's cell, and the moving one's cells of this call and the last.
+            assert!(grid.cell_count() <= 3, "{} cells", grid.cell_count());
+        }
+    }
+
+    /// A pile of boxes in one cell stops at the limit, with duplicates counted once.
+    #[test]
+    fn pairs_stop_at_the_limit() {
+        let mut grid = UniformGrid::new(1.0);
+        // 100 boxes over the same 8 cells: 4950 pairs, each found in 8 cells.
+        let proxies = vec![
+            Proxy {
+                aabb: aabb([-0.1; 3], [0.1; 3]),
+                active: true,
+            };
+            100
+        ];
+        let mut pairs = Vec::new();
+        assert!(!grid.fill_pairs_within(&proxies, &mut pairs, 4950));
+        assert_eq!(pairs.len(), 4950);
+        assert!(grid.fill_pairs_within(&proxies, &mut pairs, 1000));
+        assert_eq!(pairs.len(), 1000);
+        assert!(pairs.windows(2).all(|w| w[0] < w[1]));
     }
 }
