@@ -276,11 +276,7 @@ fn check_settings(settings: &WorldSettings) -> Result<(), String> {
 const ORTHONORMAL_TOLERANCE: f64 = 1e-6;
 
 fn is_rotation(r: DMat3) -> bool {
-    let error = r.transpose() * r - DMat3::IDENTITY;
-    let worst = [error.x_axis, error.y_axis, error.z_axis]
-        .iter()
-        .map(|c| c.abs().max_element())
-        .fold(0.0, f64::max);
+    let worst = largest_entry(r.transpose() * r - DMat3::IDENTITY);
     worst <= ORTHONORMAL_TOLERANCE && r.determinant() > 0.0
 }
 

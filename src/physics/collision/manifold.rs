@@ -500,7 +500,7 @@ fn feature_axis(a: &Polyhedron, b: &Polyhedron, feature: SeparatingFeature) -> O
         Some(Axis::Face {
             of_a,
             face: k as usize,
-            separation: -other.support_value(-face.normal) - face.offset,
+            separation: face_separation(face, other),
         })
     };
     match feature {
@@ -591,7 +591,7 @@ fn best_face_axis(owner: &Polyhedron, other: &Polyhedron, of_a: bool, slack: f64
         return best_box_face_axis(&owner_box, &other_box, of_a);
     }
     let bound = |f: &Polygon| f.normal.dot(other.centroid) - other.inner_radius - f.offset;
-    let separation = |f: &Polygon| -other.support_value(-f.normal) - f.offset;
+    let separation = |f: &Polygon| face_separation(f, other);
     let first = (0..owner.faces.len())
         .map(|k| (k, bound(&owner.faces[k])))
         .max_by(|x, y| x.1.total_cmp(&y.1))
@@ -612,6 +612,11 @@ fn best_face_axis(owner: &Polyhedron, other: &Polyhedron, of_a: bool, slack: f64
         face: best.0,
         separation: best.1,
     }
+}
+
+/// How far `other` lies out along the normal of `face`, beyond its plane (negative: into it).
+fn face_separation(face: &Polygon, other: &Polyhedron) -> f64 {
+    -other.support_value(-face.normal) - face.offset
 }
 
 /// `best_face_axis` for two boxes in closed form. Along the owner's axis u_k the other box
