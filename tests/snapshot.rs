@@ -317,3 +317,24 @@ fn negative_drag_and_a_wrapping_step_count_are_refused() {
     world.step(DT);
     assert_eq!(world.step_count(), (1 << 53) + 1);
 }
+
+/// A snapshot's forces meet the scene's limits: gravity of 1e12 m/s² or wind of 1e300 m/s
+/// is refused with the force and field named.
+#[test]
+fn forces_beyond_their_limits_are_refused_in_a_snapshot() {
+    let gravity = EnvironmentForce::Gravity {
+        acceleration: DVec3::new(0.0, -1e12, 0.0),
+    };
+    let wind = EnvironmentForce::Wind {
+        velocity: DVec3::new(1e300, 0.0, 0.0),
+        coefficient: 1.0,
+    };
+    for (force, field) in [
+        (gravity, "forces[1].acceleration"),
+        (wind, "forces[1].velocity"),
+    ] {
+        let text = edited(|s| s.forces.push(force)).unwrap_err().to_string();
+        assert!(text.starts_with(FILE) && text.contains(field), "{text}");
+        assert!(text.contains("at most"), "{text}");
+    }
+}

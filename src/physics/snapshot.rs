@@ -208,10 +208,10 @@ impl WorldSnapshot {
         }
         check_settings(&self.settings).map_err(|m| inconsistent(format!("settings: {m}")))?;
         // The loader of scenes refuses the same: a negative drag pumps energy in.
-        if let Some((index, force)) = self.forces.iter().enumerate().find(|(_, f)| !f.is_valid()) {
-            return Err(inconsistent(format!(
-                "forces[{index}] ({force:?}): a force must be finite, and a coefficient not negative"
-            )));
+        for (index, force) in self.forces.iter().enumerate() {
+            force
+                .validate()
+                .map_err(|e| inconsistent(format!("forces[{index}].{e}")))?;
         }
         Ok(())
     }

@@ -29,6 +29,7 @@ use crate::physics::collision::manifold_memory::ManifoldMemory;
 use crate::physics::collision::narrow_phase::{self, NarrowScratch};
 use crate::physics::dynamics::awake_set::AwakeSet;
 use crate::physics::dynamics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
+use crate::physics::dynamics::containment;
 use crate::physics::dynamics::forces::{self, EnvironmentForce};
 use crate::physics::dynamics::integrate::{self, Integrator};
 use crate::physics::dynamics::islands::{self, IslandScratch, SleepSettings};
@@ -213,6 +214,34 @@ pub struct Fault {
     pub step: u64,
     /// Simulated time at the start of that step, s.
     pub time: f64,
+    /// Why it was isolated (faults saved before reasons were kept read as `NonFinite`).
+    #[serde(default)]
+    pub reason: FaultReason,
+}
+
+/// Why a body was isolated.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FaultReason {
+    /// Its state, force or torque was NaN or infinite.
+    #[default]
+    NonFinite,
+    /// It was about to touch another body with a position, speed or spin beyond
+    /// `CONTACT_RANGE`, where the contact would overflow.
+    BeyondContactRange,
+}
+
+impl std::fmt::Display for FaultReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FaultReason::NonFinite => f.write_str("its state, force or torque is not finite"),
+            FaultReason::BeyondContactRange => write!(
+                f,
+                "it met another body with a position, speed or spin over {:e}, beyond what a \
+                 contact can compute",
+                containment::CONTACT_RANGE
+            ),
+        }
+    }
 }
 
 /// A step whose broad phase found more pairs than `WorldSettings::max_pairs`: it kept that
@@ -442,6 +471,9 @@ impl World {
             timed(on, &mut times.broad_phase, || {
                 self.wake_on_user_input(&touched);
                 self.broad_phase(dt, &touched);
+            });
+            timed(on, &mut times.checks, || {
+                self.isolate_beyond_range(&touched)
             });
             timed(on, &mut times.narrow_phase, || {
                 self.narrow_phase(dt, &touched)
@@ -731,19 +763,39 @@ impl World {
     fn isolate_non_finite(&mut self, bodies: &[u32]) {
         for &index in bodies {
             if needs_isolating(&self.bodies[index as usize]) {
-                // What rested on it must not stay asleep in mid-air, as on a removal.
-                self.wake_neighbours(index as usize);
-                let body = &mut self.bodies[index as usize];
-                body.motion = Motion::Isolated;
-                self.faults.push(Fault {
-                    body: BodyId(index),
-                    name: body.name.clone(),
-                    step: self.steps,
-                    time: self.time,
-                });
-                self.awake_set.touch(index as usize);
+                self.isolate(index, FaultReason::NonFinite);
             }
         }
+    }
+
+    /// Before the narrow phase: a body beyond `CONTACT_RANGE` loses its pairs, and is
+    /// isolated if it had any, so that no contact computes with its numbers; the bodies it
+    /// would have touched go on untouched.
+    fn isolate_beyond_range(&mut self, touched: &[u32]) {
+        let awake = self.awake_set.awake(&self.bodies);
+        let far = containment::bodies_beyond_range(&self.bodies, awake, touched);
+        if far.is_empty() {
+            return;
+        }
+        for index in containment::drop_pairs_of(&mut self.pairs, &far) {
+            self.isolate(index, FaultReason::BeyondContactRange);
+        }
+    }
+
+    /// Takes body `index` out of the simulation and lists it in `faults`.
+    fn isolate(&mut self, index: u32, reason: FaultReason) {
+        // What rested on it must not stay asleep in mid-air, as on a removal.
+        self.wake_neighbours(index as usize);
+        let body = &mut self.bodies[index as usize];
+        body.motion = Motion::Isolated;
+        self.faults.push(Fault {
+            body: BodyId(index),
+            name: body.name.clone(),
+            step: self.steps,
+            time: self.time,
+            reason,
+        });
+        self.awake_set.touch(index as usize);
     }
 
     /// Energy and momentum summed over the dynamic bodies (isolated and removed ones left

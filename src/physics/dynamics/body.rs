@@ -206,6 +206,18 @@ pub enum BodyError {
         /// The mass it gave, kg.
         mass: f64,
     },
+    /// The velocity is finite but the momentum or kinetic energy it gives is not: 1e300 m/s
+    /// on a body of 1e10 kg, or 1e160 m/s on a kilogram.
+    #[error(
+        "body '{body}': {field} gives a momentum or kinetic energy beyond f64; the body \
+         could not be simulated"
+    )]
+    EnergyNotFinite {
+        /// The body's name.
+        body: String,
+        /// `velocity` or `angular_velocity`.
+        field: &'static str,
+    },
     /// A coefficient lies outside its range.
     #[error("body '{body}': {field} must lie in [{min}, {max}], got {value}")]
     OutOfRange {
@@ -329,6 +341,7 @@ impl BodyError {
         match self {
             BodyError::Shape { body, .. }
             | BodyError::NotFinite { body, .. }
+            | BodyError::EnergyNotFinite { body, .. }
             | BodyError::NotPositive { body, .. }
             | BodyError::MassNotInvertible { body, .. }
             | BodyError::OutOfRange { body, .. } => body,
@@ -340,6 +353,7 @@ impl BodyError {
         match self {
             BodyError::Shape { .. } => "shape",
             BodyError::NotFinite { field, .. }
+            | BodyError::EnergyNotFinite { field, .. }
             | BodyError::NotPositive { field, .. }
             | BodyError::MassNotInvertible { field, .. }
             | BodyError::OutOfRange { field, .. } => field,
@@ -352,6 +366,9 @@ impl BodyError {
         match self {
             BodyError::Shape { source, .. } => source.to_string(),
             BodyError::NotFinite { .. } => "must be finite".into(),
+            BodyError::EnergyNotFinite { .. } => {
+                "gives a momentum or kinetic energy beyond f64".into()
+            }
             BodyError::NotPositive { value, .. } => format!("must be positive, got {value}"),
             BodyError::OutOfRange {
                 value, min, max, ..
@@ -466,14 +483,24 @@ impl RigidBody {
             body.linear_momentum = desc.velocity * props.mass;
             body.angular_momentum = body.inertia_world() * desc.angular_velocity;
         }
-        // A finite speed times a huge mass can overflow.
-        for (momentum, field) in [
-            (body.linear_momentum, "velocity"),
-            (body.angular_momentum, "angular_velocity"),
-        ] {
-            if !momentum.is_finite() {
+        // A finite speed times a huge mass can overflow, and so can ½ m v² when the momentum
+        // does not: such a body would break the totals and any contact at once.
+        let energies = [
+            (
+                body.linear_momentum,
+                "velocity",
+                body.velocity().dot(body.linear_momentum),
+            ),
+            (
+                body.angular_momentum,
+                "angular_velocity",
+                body.angular_velocity().dot(body.angular_momentum),
+            ),
+        ];
+        for (momentum, field, twice_energy) in energies {
+            if !momentum.is_finite() || !twice_energy.is_finite() {
                 let body = desc.name.clone();
-                return Err(BodyError::NotFinite { body, field });
+                return Err(BodyError::EnergyNotFinite { body, field });
             }
         }
         Ok(body)

@@ -3,6 +3,7 @@
 
 pub(crate) mod awake_set;
 pub mod body;
+pub(crate) mod containment;
 pub mod forces;
 pub mod integrate;
 pub(crate) mod islands;
