@@ -678,3 +678,23 @@ fn each_fault_is_printed_with_its_body_step_and_reason_and_counted() {
         "{stdout}"
     );
 }
+
+/// A scene path that is not UTF-8 is refused naming the argument; before, the message
+/// named none ("invalid UTF-8 was detected in one or more arguments").
+#[cfg(unix)]
+#[test]
+fn a_non_utf8_scene_path_names_its_argument() {
+    use std::os::unix::ffi::OsStrExt;
+    let path = std::ffi::OsStr::from_bytes(b"scene-\xff.ron");
+    let output = Command::new(env!("CARGO_BIN_EXE_headless"))
+        .arg("--scene")
+        .arg(path)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--scene <SCENE> is not valid UTF-8: 'scene-\u{fffd}.ron'"),
+        "{stderr}"
+    );
+}

@@ -21,6 +21,7 @@ use std::time::{Duration, Instant};
 use clap::{Parser, ValueEnum};
 use glam::{DQuat, DVec3};
 use indicatif::{ProgressBar, ProgressStyle};
+use rigid::cli_arg::Utf8Text;
 use rigid::physics::{Integrator, RigidBody, SnapshotError, World, WorldSnapshot, WorldTotals};
 use rigid::scene::{self, DEFAULT_SCENE, DT_RANGE};
 use rigid::sim::{FileCommands, Recording, SavedWorld, Simulation};
@@ -29,7 +30,7 @@ use rigid::sim::{FileCommands, Recording, SavedWorld, Simulation};
 #[command(about = "Run a scene without a window and report energy and momentum")]
 struct Args {
     /// A built-in scene name or a path to a .ron scene file.
-    #[arg(long, default_value = DEFAULT_SCENE)]
+    #[arg(long, default_value = DEFAULT_SCENE, value_parser = Utf8Text)]
     scene: String,
     /// Number of steps.
     #[arg(long, default_value_t = 1000)]

@@ -12,15 +12,36 @@ use crate::physics::geometry::mass::MassProperties;
 use crate::physics::geometry::nearest_surface::NearestSurface;
 use crate::physics::geometry::shape::{Shape, ShapeError};
 
-/// Index of a body in its world, as `World::add_body` hands it out. Ids stay valid for the
-/// world's life: a removed body keeps its slot.
+/// A body's handle, as `World::add_body` hands it out: its slot in `World::bodies` in the
+/// low `BodyId::INDEX_BITS` bits, and the slot's generation above them. A removed body's
+/// slot is reused under the next generation, so the removed body's id is refused from then
+/// on (`World::get_body` answers None) instead of naming the new body. `BodyId(i)` is slot
+/// `i` at generation 0, as the world's internal lists (pairs, manifolds) spell their bodies,
+/// and as snapshots written before generations stored them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct BodyId(pub u32);
 
 impl BodyId {
+    /// Bits of the slot index: 131 072 slots, more than `MAX_BODIES`.
+    pub const INDEX_BITS: u32 = 17;
+    /// The last generation of a slot; a slot removed at it is never reused, so an id is
+    /// never aliased.
+    pub const MAX_GENERATION: u32 = (1 << (32 - Self::INDEX_BITS)) - 1;
+
+    /// The id of slot `index` at `generation` (at most `MAX_GENERATION`).
+    pub fn new(index: usize, generation: u32) -> Self {
+        debug_assert!(index < 1 << Self::INDEX_BITS && generation <= Self::MAX_GENERATION);
+        BodyId((generation << Self::INDEX_BITS) | index as u32)
+    }
+
     /// The id as an index into `World::bodies`.
     pub fn index(self) -> usize {
-        self.0 as usize
+        (self.0 & ((1 << Self::INDEX_BITS) - 1)) as usize
+    }
+
+    /// How many times the slot had been freed when this id was handed out.
+    pub fn generation(self) -> u32 {
+        self.0 >> Self::INDEX_BITS
     }
 }
 

@@ -7,4 +7,5 @@ pub(crate) mod containment;
 pub mod forces;
 pub mod integrate;
 pub(crate) mod islands;
+pub(crate) mod slots;
 pub(crate) mod union_find;
