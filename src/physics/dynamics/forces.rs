@@ -71,7 +71,7 @@ impl EnvironmentForce {
     pub fn validate(&self) -> Result<(), ForceError> {
         match *self {
             EnvironmentForce::Gravity { acceleration } => {
-                at_most("acceleration", acceleration.length(), MAX_GRAVITY, "m/s²")
+                at_most("acceleration", acceleration.length(), MAX_GRAVITY, " m/s²")
             }
             EnvironmentForce::LinearDrag { coefficient }
             | EnvironmentForce::QuadraticDrag { coefficient } => drag_coefficient(coefficient),
@@ -79,7 +79,7 @@ impl EnvironmentForce {
                 velocity,
                 coefficient,
             } => {
-                at_most("velocity", velocity.length(), MAX_WIND_SPEED, "m/s")?;
+                at_most("velocity", velocity.length(), MAX_WIND_SPEED, " m/s")?;
                 drag_coefficient(coefficient)
             }
         }
@@ -114,7 +114,7 @@ fn at_most(field: &'static str, value: f64, limit: f64, unit: &str) -> Result<()
     if value.is_finite() && value <= limit {
         return Ok(());
     }
-    let reason = format!("must be finite and at most {limit:e} {unit} in magnitude, got {value:e}");
+    let reason = format!("must be finite and at most {limit:e}{unit} in magnitude, got {value:e}");
     Err(ForceError { field, reason })
 }
 
