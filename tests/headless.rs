@@ -668,8 +668,9 @@ fn each_fault_is_printed_with_its_body_step_and_reason_and_counted() {
     assert_eq!(
         faults,
         [
-            "fault: step 0 (t = 0 s): body 2 'bullet' isolated: it met another body with a \
-          position, speed or spin over 1e100, beyond what a contact can compute"
+            "fault: step 0 (t = 0 s): body 2 'bullet' isolated: it met another body at a \
+             speed or spin over 1e15 (or a coordinate over 1e100), beyond what a contact can \
+             compute"
         ],
         "{stderr}"
     );

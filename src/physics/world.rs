@@ -230,8 +230,9 @@ pub enum FaultReason {
     /// Its state, force or torque was NaN or infinite.
     #[default]
     NonFinite,
-    /// It was about to touch another body with a position, speed or spin beyond
-    /// `CONTACT_RANGE`, where the contact would overflow.
+    /// It was about to touch another body with a speed or spin beyond `MAX_CONTACT_SPEED`,
+    /// or a coordinate beyond `MAX_CONTACT_POSITION`, where the contact's arithmetic would
+    /// overflow or create energy.
     BeyondContactRange,
 }
 
@@ -241,9 +242,10 @@ impl std::fmt::Display for FaultReason {
             FaultReason::NonFinite => f.write_str("its state, force or torque is not finite"),
             FaultReason::BeyondContactRange => write!(
                 f,
-                "it met another body with a position, speed or spin over {:e}, beyond what a \
-                 contact can compute",
-                containment::CONTACT_RANGE
+                "it met another body at a speed or spin over {:e} (or a coordinate over {:e}), \
+                 beyond what a contact can compute",
+                containment::MAX_CONTACT_SPEED,
+                containment::MAX_CONTACT_POSITION
             ),
         }
     }
@@ -802,7 +804,7 @@ impl World {
         }
     }
 
-    /// Before the narrow phase: a body beyond `CONTACT_RANGE` loses its pairs, and is
+    /// Before the narrow phase: a body beyond contact range loses its pairs, and is
     /// isolated if it had any, so that no contact computes with its numbers; the bodies it
     /// would have touched go on untouched.
     fn isolate_beyond_range(&mut self, touched: &[u32]) {
