@@ -94,9 +94,10 @@ pub const MAX_GRAVITY: f64 = 1e4;
 /// made momenta overflow.
 pub const MAX_WIND_SPEED: f64 = 1e4;
 
-/// Largest drag or wind coefficient, in N·s/m (N·s²/m² for quadratic drag). Drag is applied
-/// explicitly, so a light body under a coefficient near this limit may still oscillate;
-/// 1e9 ended in NaN on bodies of a kilogram.
+/// Largest drag or wind coefficient, in N·s/m (N·s²/m² for quadratic drag); 1e9 ended in
+/// NaN on bodies of a kilogram. Drag is applied explicitly, so it is stable only while
+/// k·h/m < 2 (h the substep, m the body's mass): below the limit a body light enough still
+/// diverges, and is then isolated and reported as any non-finite body.
 pub const MAX_DRAG_COEFFICIENT: f64 = 1e6;
 
 /// Why `EnvironmentForce::validate` refused a force: the field as the force spells it.
