@@ -936,6 +936,23 @@ mod tests {
         assert_eq!(after.bodies[4].velocity, glam::Vec3::X);
     }
 
+    /// Gravity past `MAX_GRAVITY` is refused with a message, as a scene refuses it, and the
+    /// world keeps the gravity it had (1e12 m/s² made bodies tunnel, 1e308 overflowed).
+    #[test]
+    fn gravity_beyond_its_limit_is_refused() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        let before = gravity_of(sim.world());
+        for g in [1e12, 1e308] {
+            sim.apply(Command::SetGravity(DVec3::new(0.0, -g, 0.0)));
+            let message = sim.message.clone().unwrap_or_default();
+            assert!(
+                message.starts_with("SetGravity refused: gravity"),
+                "{message}"
+            );
+            assert_eq!(gravity_of(sim.world()), before);
+        }
+    }
+
     #[test]
     fn gravity_and_materials_reach_the_world() {
         let mut sim = Simulation::new("falling_box").unwrap();
