@@ -18,7 +18,7 @@ use thiserror::Error;
 use crate::physics::collision::broad_phase::{BroadPhaseKind, Proxy};
 use crate::physics::collision::contact_cache::ContactCache;
 use crate::physics::collision::manifold_memory::ManifoldMemory;
-use crate::physics::dynamics::body::{Motion, RigidBody};
+use crate::physics::dynamics::body::{BodyId, Motion, RigidBody};
 use crate::physics::dynamics::forces::EnvironmentForce;
 use crate::physics::world::{Fault, MAX_BODIES, WorldSettings};
 
@@ -55,6 +55,10 @@ pub struct WorldSnapshot {
     pub awake: usize,
     /// Bodies isolated so far (`World::faults`).
     pub faults: Vec<Fault>,
+    /// Per body slot, the generation of its id (see `BodyId`); empty in snapshots written
+    /// before ids had generations.
+    #[serde(default)]
+    pub generations: Vec<u32>,
 }
 
 /// Why a snapshot could not be read, written or used. `file` names the snapshot as the
@@ -184,6 +188,7 @@ impl WorldSnapshot {
                 self.proxies.len()
             )));
         }
+        check_generations(&self.generations, &self.bodies).map_err(inconsistent)?;
         if self.touched.iter().any(|&i| i as usize >= count) {
             return Err(inconsistent("touched names a missing body".into()));
         }
@@ -208,12 +213,32 @@ impl WorldSnapshot {
         }
         check_settings(&self.settings).map_err(|m| inconsistent(format!("settings: {m}")))?;
         // The loader of scenes refuses the same: a negative drag pumps energy in.
-        if let Some((index, force)) = self.forces.iter().enumerate().find(|(_, f)| !f.is_valid()) {
-            return Err(inconsistent(format!(
-                "forces[{index}] ({force:?}): a force must be finite, and a coefficient not negative"
-            )));
+        for (index, force) in self.forces.iter().enumerate() {
+            force
+                .validate()
+                .map_err(|e| inconsistent(format!("forces[{index}].{e}")))?;
         }
         Ok(())
+    }
+}
+
+/// One generation per body, none past `BodyId::MAX_GENERATION`, or none at all (an older
+/// snapshot).
+fn check_generations(generations: &[u32], bodies: &[RigidBody]) -> Result<(), String> {
+    if !generations.is_empty() && generations.len() != bodies.len() {
+        return Err(format!(
+            "generations: {} listed for {} bodies",
+            generations.len(),
+            bodies.len()
+        ));
+    }
+    match generations.iter().position(|&g| g > BodyId::MAX_GENERATION) {
+        Some(index) => Err(format!(
+            "generations[{index}] must be at most {}, got {}",
+            BodyId::MAX_GENERATION,
+            generations[index]
+        )),
+        None => Ok(()),
     }
 }
 
