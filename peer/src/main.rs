@@ -613,11 +613,13 @@ const OLD: &[&str] = &[
 ];
 
 const USAGE: &str = "\
-Usage: peer-bench [--scene NAME]... [--steps N] [--repeats N] [--list]
+Usage: peer-bench [--scene NAME]... [--steps N] [--long N] [--repeats N] [--list]
 
   --scene NAME   run only these scenes (repeat it, or give a comma-separated list);
                  NAME is a scene, or `old`, `stress` or `all` (the default: every scene)
   --steps N      cut every scene to at most N steps (at least 2), for smoke runs
+  --long N       run every scene N steps instead of its own (at least 2), to see what
+                 stacks do after a benchmark's window; Box3D still runs its own steps
   --repeats N    timed runs of each engine per setting, instead of each scene's own
   --list         list the scenes and exit
 
@@ -629,13 +631,15 @@ struct Options {
     /// The scenes to run, in the report's order.
     scenes: Vec<&'static str>,
     steps: Option<usize>,
+    /// Steps every scene runs instead of its own (`--long`).
+    long: Option<usize>,
     repeats: Option<usize>,
 }
 
 impl Options {
     fn parse(args: impl Iterator<Item = String>) -> Result<Options, String> {
         let mut wanted: Vec<String> = Vec::new();
-        let (mut steps, mut repeats) = (None, None);
+        let (mut steps, mut long, mut repeats) = (None, None, None);
         let mut args = args.peekable();
         let number = |flag: &str, value: Option<String>, least: usize| {
             value
@@ -656,6 +660,7 @@ impl Options {
                     wanted.extend(list.split(',').map(str::to_owned));
                 }
                 "--steps" => steps = Some(number("--steps", value(), 2)?),
+                "--long" => long = Some(number("--long", value(), 2)?),
                 "--repeats" => repeats = Some(number("--repeats", value(), 1)?),
                 "--list" => {
                     println!(
@@ -699,6 +704,7 @@ impl Options {
         Ok(Options {
             scenes,
             steps,
+            long,
             repeats,
         })
     }
@@ -712,9 +718,11 @@ impl Options {
         self.repeats.unwrap_or(default)
     }
 
-    /// The scene cut to `--steps`, if that is fewer than its own.
+    /// The scene run `--long` steps instead of its own, then cut to `--steps` if that is
+    /// fewer.
     fn cut(&self, scene: SceneDesc) -> SceneDesc {
-        let steps = self.steps.map_or(scene.steps, |n| n.min(scene.steps));
+        let own = self.long.unwrap_or(scene.steps);
+        let steps = self.steps.map_or(own, |n| n.min(own));
         SceneDesc { steps, ..scene }
     }
 }
@@ -804,6 +812,9 @@ fn main() {
         println!(
             "**Smoke run: every scene cut to at most {n} steps (`--steps`); these are not results.**\n"
         );
+    }
+    if let Some(n) = opts.long {
+        println!("**Long run: every scene ran {n} steps (`--long`) instead of its own.**\n");
     }
     println!("{}", details(&opts));
     if !rows.is_empty() {

@@ -313,8 +313,8 @@ pub fn report(names: &[&str], opts: &Options) -> String {
                 );
                 if steps != stress.scene.steps {
                     note += &format!(
-                        " Our engines ran {} steps here (`--steps`), Box3D its own {steps}: \
-                         the ratio is not like for like.",
+                        " Our engines ran {} steps here (`--steps` or `--long`), Box3D its own \
+                         {steps}: the ratio is not like for like.",
                         stress.scene.steps
                     );
                 }
