@@ -20,6 +20,7 @@ use crate::physics::collision::contact_cache::ContactCache;
 use crate::physics::collision::manifold_memory::ManifoldMemory;
 use crate::physics::dynamics::body::{Motion, RigidBody};
 use crate::physics::dynamics::forces::EnvironmentForce;
+use crate::physics::joints::joint::Joint;
 use crate::physics::world::{Fault, MAX_BODIES, WorldSettings};
 
 /// Raised when the layout of `WorldSnapshot` changes.
@@ -55,6 +56,10 @@ pub struct WorldSnapshot {
     pub awake: usize,
     /// Bodies isolated so far (`World::faults`).
     pub faults: Vec<Fault>,
+    /// The joints by id, None where one was removed (absent in snapshots from before
+    /// joints: none).
+    #[serde(default)]
+    pub joints: Vec<Option<Joint>>,
 }
 
 /// Why a snapshot could not be read, written or used. `file` names the snapshot as the
@@ -206,12 +211,38 @@ impl WorldSnapshot {
         if !self.time.is_finite() {
             return Err(inconsistent("time is not finite".into()));
         }
+        self.check_joints().map_err(inconsistent)?;
         check_settings(&self.settings).map_err(|m| inconsistent(format!("settings: {m}")))?;
         // The loader of scenes refuses the same: a negative drag pumps energy in.
         if let Some((index, force)) = self.forces.iter().enumerate().find(|(_, f)| !f.is_valid()) {
             return Err(inconsistent(format!(
                 "forces[{index}] ({force:?}): a force must be finite, and a coefficient not negative"
             )));
+        }
+        Ok(())
+    }
+}
+
+impl WorldSnapshot {
+    /// Each joint joins two different bodies that take part, not both static, with numbers
+    /// a joint can have (`Joint::check`).
+    fn check_joints(&self) -> Result<(), String> {
+        for (index, joint) in self.joints.iter().enumerate() {
+            let Some(joint) = joint else { continue };
+            let body = |id: crate::physics::dynamics::body::BodyId| {
+                self.bodies
+                    .get(id.index())
+                    .filter(|b| b.motion.takes_part())
+            };
+            let (Some(a), Some(b)) = (body(joint.body_a), body(joint.body_b)) else {
+                return Err(format!("joints[{index}] names a missing or removed body"));
+            };
+            if joint.body_a == joint.body_b || !(a.is_dynamic() || b.is_dynamic()) {
+                return Err(format!(
+                    "joints[{index}] needs two bodies, one of them moving"
+                ));
+            }
+            joint.check().map_err(|m| format!("joints[{index}]: {m}"))?;
         }
         Ok(())
     }
@@ -245,6 +276,7 @@ fn check_settings(settings: &WorldSettings) -> Result<(), String> {
     };
     let positive = [
         ("solver.contact_hertz", soft.contact_hertz),
+        ("solver.joint_hertz", soft.joint_hertz),
         ("classic.theta", classic.theta),
         ("broad_phase.cell_size", cell_size),
     ];
@@ -255,6 +287,7 @@ fn check_settings(settings: &WorldSettings) -> Result<(), String> {
     }
     let non_negative = [
         ("solver.damping_ratio", soft.damping_ratio),
+        ("solver.joint_damping_ratio", soft.joint_damping_ratio),
         ("solver.max_push_out", soft.max_push_out),
         ("solver.restitution_threshold", soft.restitution_threshold),
         ("classic.resting_speed", classic.resting_speed),

@@ -33,6 +33,7 @@ use crate::physics::dynamics::forces::{self, EnvironmentForce};
 use crate::physics::dynamics::integrate::{self, Integrator};
 use crate::physics::dynamics::islands::{self, IslandScratch, SleepSettings};
 use crate::physics::geometry::aabb::Aabb;
+use crate::physics::joints::joint::Joint;
 use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
 use crate::physics::solver::classic::{self, ClassicContext, ClassicReport, ClassicSettings};
 use crate::physics::solver::soft::{
@@ -155,7 +156,14 @@ pub struct World {
     faults: Vec<Fault>,
     /// The last step that went over `settings.max_pairs`, if any did.
     pair_budget_fault: Option<PairBudgetFault>,
+    /// By `JointId`; None where a joint was removed.
+    joints: Vec<Option<Joint>>,
+    /// What the joints tie together, derived from `joints` (see `joints::JointLinks`).
+    joint_links: JointLinks,
 }
+
+mod joints;
+use joints::JointLinks;
 
 impl Default for World {
     fn default() -> Self {
@@ -200,6 +208,13 @@ pub enum StepError {
     /// The `dt` given, s, is not finite or is longer than `MAX_STEP` either way.
     #[error("dt must be finite and at most {MAX_STEP} s either way, got {0}")]
     BadDt(f64),
+    /// The classic pipeline has no joints: a world holding any steps with `Pipeline::Soft`.
+    #[error("the classic pipeline does not solve joints; this world holds {0}")]
+    JointsNeedSoft(usize),
+    /// A negative dt runs bodies backwards without contacts or joints: a world holding
+    /// joints is not run backwards.
+    #[error("a world with joints is not run backwards; this one holds {0}")]
+    JointsNotBackwards(usize),
 }
 
 /// A body whose state stopped being finite, and when. The body is isolated the same step.
@@ -273,6 +288,8 @@ impl World {
             steps: 0,
             faults: Vec::new(),
             pair_budget_fault: None,
+            joints: Vec::new(),
+            joint_links: JointLinks::default(),
         }
     }
 
@@ -292,6 +309,7 @@ impl World {
             manifold_memory: self.manifold_memory.clone(),
             awake: self.awake,
             faults: self.faults.clone(),
+            joints: self.joints.clone(),
         }
     }
 
@@ -311,6 +329,8 @@ impl World {
             time: snapshot.time,
             steps: snapshot.steps,
             faults: snapshot.faults,
+            joint_links: JointLinks::of(&snapshot.joints),
+            joints: snapshot.joints,
             ..World::new(snapshot.settings)
         })
     }
@@ -330,7 +350,8 @@ impl World {
 
     /// Takes a body out: it no longer moves, feels forces or touches anything, and every
     /// sleeping body whose broad-phase box touched its box wakes up, so that what rested on
-    /// it falls. Its slot stays (see `Motion::Removed`), so other ids stay valid.
+    /// it falls. Its joints are removed with it. Its slot stays (see `Motion::Removed`), so
+    /// other ids stay valid.
     pub fn remove_body(&mut self, id: BodyId) -> Result<(), RemoveError> {
         let index = id.index();
         match self.bodies.get(index).map(|b| b.motion) {
@@ -339,6 +360,7 @@ impl World {
             Some(_) => {}
         }
         self.wake_neighbours(index);
+        self.remove_joints_of(index);
         let body = &mut self.bodies[index];
         body.motion = Motion::Removed;
         body.sleeping = false;
@@ -415,17 +437,26 @@ impl World {
         self.steps
     }
 
-    /// Advances the world by `dt` seconds; a negative `dt` runs it backwards. A `dt` that
-    /// `try_step` refuses leaves the world as it is.
+    /// Advances the world by `dt` seconds; a negative `dt` runs it backwards. A step that
+    /// `try_step` refuses (a bad `dt`; joints on the classic pipeline or backwards) leaves
+    /// the world as it is.
     pub fn step(&mut self, dt: f64) {
         let _ = self.try_step(dt);
     }
 
     /// `step`, or an error for a `dt` that is not finite or longer than `MAX_STEP` either way
-    /// (one NaN step would otherwise isolate every body).
+    /// (one NaN step would otherwise isolate every body), and for a world with joints on the
+    /// classic pipeline, which would otherwise move its bodies as if they were not joined.
     pub fn try_step(&mut self, dt: f64) -> Result<(), StepError> {
         if !(dt.is_finite() && dt.abs() <= MAX_STEP) {
             return Err(StepError::BadDt(dt));
+        }
+        let joints = self.joint_count();
+        if joints > 0 && self.settings.pipeline == Pipeline::Classic {
+            return Err(StepError::JointsNeedSoft(joints));
+        }
+        if joints > 0 && dt < 0.0 {
+            return Err(StepError::JointsNotBackwards(joints));
         }
         self.advance(dt);
         Ok(())
@@ -543,7 +574,15 @@ impl World {
             let awake = self.awake_set.awake(&self.bodies);
             let sleep = &self.settings.sleep;
             let scratch = &mut self.island_scratch;
-            if islands::update(&mut self.bodies, awake, &self.manifolds, sleep, scratch) {
+            let links = self.joint_links.links();
+            if islands::update(
+                &mut self.bodies,
+                awake,
+                &self.manifolds,
+                links,
+                sleep,
+                scratch,
+            ) {
                 self.awake_set.invalidate();
             }
         }
@@ -651,7 +690,9 @@ impl World {
         let awake = self.awake_set.awake(&self.bodies);
         let limit = self.settings.max_pairs;
         let (proxies, pairs) = (&self.proxies, &mut self.pairs);
-        if (self.broad_phase).fill_pairs_within(proxies, awake, idle_changed, pairs, limit) {
+        let over = (self.broad_phase).fill_pairs_within(proxies, awake, idle_changed, pairs, limit);
+        self.joint_links.drop_unjoined_pairs(&mut self.pairs);
+        if over {
             let steps_over = self.pair_budget_fault.as_ref().map_or(0, |f| f.steps_over);
             self.pair_budget_fault = Some(PairBudgetFault {
                 step: self.steps,
@@ -680,6 +721,7 @@ impl World {
             &mut self.bodies,
             awake,
             &inputs,
+            &mut self.joints,
             &ctx,
             &mut self.soft_scratch,
         );

@@ -1,6 +1,6 @@
 //! Islands and sleeping.
 //!
-//! Bodies touching through contacts form islands (static bodies do not join islands: a floor
+//! Bodies touching through contacts or held by a joint form islands (static bodies do not join islands: a floor
 //! does not tie everything on it together). A body is quiet while its kinetic energy stays
 //! under ½ m v², v = `sleep_speed` (the report's criterion: energy, watched over time so a
 //! ball at the top of its flight is not put to sleep). An island whose bodies have all been
@@ -63,7 +63,8 @@ pub fn add_quiet_time(bodies: &mut [RigidBody], awake: &[u32], dt: f64, settings
     }
 }
 
-/// Puts to sleep or wakes the islands the awake bodies form with the bodies they touch, by
+/// Puts to sleep or wakes the islands the awake bodies form with the bodies they touch or
+/// are joined to (`links`: the bodies of each joint), by
 /// the quiet times of the steps before (`add_quiet_time`). Only the awake bodies and the
 /// sleeping bodies in this step's contacts are visited: bodies asleep apart from them stay
 /// as they are at no cost. Returns true when some body fell asleep or woke.
@@ -71,6 +72,7 @@ pub fn update(
     bodies: &mut [RigidBody],
     awake: &[u32],
     manifolds: &[ContactManifold],
+    links: &[(u32, u32)],
     settings: &SleepSettings,
     scratch: &mut IslandScratch,
 ) -> bool {
@@ -89,6 +91,14 @@ pub fn update(
             }
         }
     }
+    for &(a, b) in links {
+        for (this, other) in [(a, b), (b, a)] {
+            let (this_body, other_body) = (&bodies[this as usize], &bodies[other as usize]);
+            if other_body.is_awake() && this_body.is_dynamic() && this_body.sleeping {
+                members.push(this);
+            }
+        }
+    }
     members.sort_unstable();
     members.dedup();
     if member_of.len() < bodies.len() {
@@ -102,6 +112,11 @@ pub fn update(
     islands.reset(members.len());
     for m in manifolds {
         if let (Some(a), Some(b)) = (local(m.body_a), local(m.body_b)) {
+            islands.union(a, b);
+        }
+    }
+    for &(a, b) in links {
+        if let (Some(a), Some(b)) = (local(BodyId(a)), local(BodyId(b))) {
             islands.union(a, b);
         }
     }

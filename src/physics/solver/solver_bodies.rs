@@ -171,6 +171,18 @@ impl SolverBodies {
     }
 }
 
+impl SolverBodies {
+    /// What turns a body's slot's angular momentum into its spin: I⁻¹ in world axes at
+    /// step start for a dynamic body; zero for one that does not turn in the solver.
+    pub fn spin_of_momentum(body: &RigidBody) -> DMat3 {
+        if body.is_dynamic() {
+            body.inv_inertia_world
+        } else {
+            DMat3::ZERO
+        }
+    }
+}
+
 fn gathered(body: &RigidBody) -> SolverBody {
     SolverBody {
         linear_momentum: F64x4::from_vec3(body.linear_momentum),
