@@ -392,7 +392,7 @@ fn bad_descriptions_get_typed_errors() {
         ),
         (
             JointDesc::ball(wall, floor, DVec3::ZERO),
-            JointError::BothStatic,
+            JointError::NoDynamicBody,
         ),
         (
             JointDesc::distance(a, b, DVec3::X, DVec3::X),

@@ -49,6 +49,6 @@ pub use solver::toi::{
 };
 pub use stage_times::StageTimes;
 pub use world::{
-    AddBodyError, DEFAULT_MAX_PAIRS, Fault, MAX_BODIES, MAX_STEP, PairBudgetFault, Pipeline,
-    RemoveError, StepError, World, WorldSettings, WorldTotals,
+    AddBodyError, DEFAULT_MAX_PAIRS, Fault, MAX_BODIES, MAX_STEP, MotionError, PairBudgetFault,
+    Pipeline, RemoveError, StepError, World, WorldSettings, WorldTotals,
 };

@@ -102,7 +102,10 @@ pub enum Pipeline {
 /// steps. Bodies come from a [`BodyDesc`] through `add_body`, which returns the body's
 /// [`BodyId`]; ids stay valid for the world's life, since `remove_body` keeps the slot. Read
 /// bodies with `body` and `bodies`, change them through `body_mut` (the next step looks at
-/// a changed body again).
+/// a changed body again). Joints come from a [`JointDesc`](crate::physics::JointDesc)
+/// through `add_joint`; kinematic bodies move by `set_kinematic_velocity` or
+/// `set_kinematic_target`, and `set_motion` switches a body between dynamic, kinematic and
+/// static.
 ///
 /// Each `step(dt)`, dt in s, runs the broad phase, the narrow phase, islands and sleep, then
 /// the chosen contact pipeline (`Pipeline`) with the forces and integration; a negative dt
@@ -163,7 +166,9 @@ pub struct World {
 }
 
 mod joints;
+mod kinematic;
 use joints::JointLinks;
+pub use kinematic::MotionError;
 
 impl Default for World {
     fn default() -> Self {
@@ -211,6 +216,10 @@ pub enum StepError {
     /// The classic pipeline has no joints: a world holding any steps with `Pipeline::Soft`.
     #[error("the classic pipeline does not solve joints; this world holds {0}")]
     JointsNeedSoft(usize),
+    /// The classic pipeline has no kinematic bodies: a world holding any steps with
+    /// `Pipeline::Soft`.
+    #[error("the classic pipeline does not move kinematic bodies; this world holds {0}")]
+    KinematicNeedsSoft(usize),
     /// A negative dt runs bodies backwards without contacts or joints: a world holding
     /// joints is not run backwards.
     #[error("a world with joints is not run backwards; this one holds {0}")]
@@ -445,8 +454,9 @@ impl World {
     }
 
     /// `step`, or an error for a `dt` that is not finite or longer than `MAX_STEP` either way
-    /// (one NaN step would otherwise isolate every body), and for a world with joints on the
-    /// classic pipeline, which would otherwise move its bodies as if they were not joined.
+    /// (one NaN step would otherwise isolate every body), and for a world with joints or
+    /// kinematic bodies on the classic pipeline, which would otherwise move its bodies as if
+    /// they were not joined, or leave kinematic bodies in place.
     pub fn try_step(&mut self, dt: f64) -> Result<(), StepError> {
         if !(dt.is_finite() && dt.abs() <= MAX_STEP) {
             return Err(StepError::BadDt(dt));
@@ -457,6 +467,12 @@ impl World {
         }
         if joints > 0 && dt < 0.0 {
             return Err(StepError::JointsNotBackwards(joints));
+        }
+        if self.settings.pipeline == Pipeline::Classic {
+            let kinematic = self.bodies.iter().filter(|b| b.is_kinematic()).count();
+            if kinematic > 0 {
+                return Err(StepError::KinematicNeedsSoft(kinematic));
+            }
         }
         self.advance(dt);
         Ok(())
@@ -470,6 +486,8 @@ impl World {
         // A non-finite user force or state is caught before any contact can spread it.
         timed(on, &mut times.checks, || self.isolate_non_finite(&touched));
         if dt >= 0.0 {
+            // Before the broad phase: the margins must see the velocities a target sets.
+            self.aim_kinematic_targets(dt);
             timed(on, &mut times.broad_phase, || {
                 self.wake_on_user_input(&touched);
                 self.broad_phase(dt, &touched);
@@ -480,6 +498,7 @@ impl World {
             timed(on, &mut times.islands, || self.islands_and_sleep());
             let mut solve_and_integrate = 0.0;
             times.integrate = timed(on, &mut solve_and_integrate, || self.solve(dt));
+            self.arrive_at_kinematic_targets(dt);
             times.solve = (solve_and_integrate - times.integrate).max(0.0);
             timed(on, &mut times.islands, || self.add_quiet_time(dt));
         } else {

@@ -7,6 +7,7 @@
 //! quiet for `time_to_sleep` sleeps as a whole; an island with any body that is not quiet is
 //! awake as a whole, which is how an awake body wakes the sleeping ones it touches.
 
+use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::physics::collision::contact::ContactManifold;
@@ -58,7 +59,14 @@ const NOT_A_MEMBER: u32 = u32::MAX;
 pub fn add_quiet_time(bodies: &mut [RigidBody], awake: &[u32], dt: f64, settings: &SleepSettings) {
     for &index in awake {
         let body = &mut bodies[index as usize];
-        let quiet = body.kinetic_energy() < 0.5 * body.mass() * settings.sleep_speed.powi(2);
+        let quiet = if body.is_kinematic() {
+            // It never sleeps while it moves, and keeps its island awake.
+            body.velocity() == DVec3::ZERO
+                && body.angular_velocity() == DVec3::ZERO
+                && body.kinematic_target.is_none()
+        } else {
+            body.kinetic_energy() < 0.5 * body.mass() * settings.sleep_speed.powi(2)
+        };
         body.quiet_time = if quiet { body.quiet_time + dt } else { 0.0 };
     }
 }
@@ -86,7 +94,7 @@ pub fn update(
     members.extend_from_slice(awake);
     for m in manifolds {
         for id in [m.body_a, m.body_b] {
-            if bodies[id.index()].is_dynamic() && bodies[id.index()].sleeping {
+            if bodies[id.index()].motion.moves() && bodies[id.index()].sleeping {
                 members.push(id.0);
             }
         }
@@ -94,7 +102,7 @@ pub fn update(
     for &(a, b) in links {
         for (this, other) in [(a, b), (b, a)] {
             let (this_body, other_body) = (&bodies[this as usize], &bodies[other as usize]);
-            if other_body.is_awake() && this_body.is_dynamic() && this_body.sleeping {
+            if other_body.is_awake() && this_body.motion.moves() && this_body.sleeping {
                 members.push(this);
             }
         }

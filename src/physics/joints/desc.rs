@@ -233,9 +233,9 @@ pub enum JointError {
     /// Both ends name the same body.
     #[error("a joint needs two bodies, got body {0} twice")]
     SameBody(u32),
-    /// Neither body moves (static), so the joint could do nothing.
-    #[error("both bodies of a joint are static")]
-    BothStatic,
+    /// Neither body is dynamic (static or kinematic), so the joint could move nothing.
+    #[error("neither body of a joint is dynamic")]
+    NoDynamicBody,
     /// A number is NaN or infinite.
     #[error("{0} must be finite")]
     NotFinite(&'static str),

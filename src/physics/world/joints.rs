@@ -46,7 +46,8 @@ impl JointLinks {
 impl World {
     /// Joins two bodies as they are now (anchors and axes in world coordinates). Refused, with
     /// the world unchanged, for a body that does not exist or no longer takes part, the same
-    /// body twice, two static bodies, and what `JointDesc::validate` refuses.
+    /// body twice, two bodies neither of which is dynamic, and what `JointDesc::validate`
+    /// refuses.
     pub fn add_joint(&mut self, desc: JointDesc) -> Result<JointId, JointError> {
         desc.validate()?;
         for id in [desc.body_a, desc.body_b] {
@@ -63,7 +64,7 @@ impl World {
             &self.bodies[desc.body_b.index()],
         );
         if !a.is_dynamic() && !b.is_dynamic() {
-            return Err(JointError::BothStatic);
+            return Err(JointError::NoDynamicBody);
         }
         let joint = Joint::new(&desc, a, b);
         let id = JointId(self.joints.len() as u32);
