@@ -499,3 +499,20 @@ fn a_saved_world_with_joints_continues_bit_for_bit() {
     let old = rigid::physics::WorldSnapshot::from_ron(&old, "old").unwrap();
     assert!(old.joints.is_empty());
 }
+
+/// Two overlapping balls joined at their shared centre point: by default the joint switches
+/// their collision off and they stay overlapped; `colliding(true)` lets the contact push.
+#[test]
+fn joined_bodies_collide_only_when_asked() {
+    let contacts_after = |collide: bool| {
+        let mut world = World::default();
+        let a = ball(&mut world, DVec3::ZERO, 0.5, 1.0);
+        let b = ball(&mut world, DVec3::X * 0.5, 0.5, 1.0);
+        let joint = JointDesc::ball(a, b, DVec3::X * 0.25).colliding(collide);
+        world.add_joint(joint).unwrap();
+        world.step(DT);
+        world.contacts().len()
+    };
+    assert_eq!(contacts_after(false), 0);
+    assert_eq!(contacts_after(true), 1);
+}
