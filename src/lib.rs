@@ -18,6 +18,7 @@
 
 #![warn(missing_docs)]
 
+pub mod cli_arg;
 pub mod input_file;
 pub mod output_file;
 pub mod physics;

@@ -639,3 +639,63 @@ fn a_step_over_the_pair_budget_is_reported() {
         "{stderr}"
     );
 }
+
+/// A ball at 1e150 m/s (finite, with a finite energy) meets the floor: the world isolates
+/// it, and the run says so on stderr, naming the body, the step and the reason, and counts
+/// it in the summary. Before, the body silently dropped out of the CSV.
+#[test]
+fn each_fault_is_printed_with_its_body_step_and_reason_and_counted() {
+    let scene = write_scene(
+        "bullet.ron",
+        r#"Scene(
+    name: "bullet",
+    settings: (dt: 0.01),
+    bodies: [
+        (name: "floor", shape: Cuboid(half_extents: (1.0, 0.1, 1.0)), static: true),
+        (name: "calm", shape: Sphere(radius: 0.1), position: (5.0, 1.0, 0.0)),
+        (name: "bullet", shape: Sphere(radius: 0.1), position: (0.0, 1.0, 0.0),
+         velocity: (0.0, -1e150, 0.0)),
+    ],
+)"#,
+    );
+    let output = headless(&["--scene", scene.to_str().unwrap(), "--steps", "3"]);
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr),
+    );
+    assert!(output.status.success(), "{stderr}");
+    let faults: Vec<&str> = stderr.lines().filter(|l| l.starts_with("fault:")).collect();
+    assert_eq!(
+        faults,
+        [
+            "fault: step 0 (t = 0 s): body 2 'bullet' isolated: it met another body at a \
+             speed or spin over 1e15 (or a coordinate over 1e100), beyond what a contact can \
+             compute"
+        ],
+        "{stderr}"
+    );
+    assert!(
+        stdout.contains("faults           1 bodies isolated"),
+        "{stdout}"
+    );
+}
+
+/// A scene path that is not UTF-8 is refused naming the argument; before, the message
+/// named none ("invalid UTF-8 was detected in one or more arguments").
+#[cfg(unix)]
+#[test]
+fn a_non_utf8_scene_path_names_its_argument() {
+    use std::os::unix::ffi::OsStrExt;
+    let path = std::ffi::OsStr::from_bytes(b"scene-\xff.ron");
+    let output = Command::new(env!("CARGO_BIN_EXE_headless"))
+        .arg("--scene")
+        .arg(path)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--scene <SCENE> is not valid UTF-8: 'scene-\u{fffd}.ron'"),
+        "{stderr}"
+    );
+}

@@ -405,7 +405,7 @@ fn bad_descriptions_get_typed_errors() {
     world.remove_body(b).unwrap();
     assert_eq!(
         world.add_joint(JointDesc::ball(a, b, DVec3::ZERO)),
-        Err(JointError::BodyGone(b.0))
+        Err(JointError::NoSuchBody(b.0))
     );
     assert_eq!(
         world.remove_joint(JointId(7)),

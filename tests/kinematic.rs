@@ -207,7 +207,7 @@ fn bad_uses_get_typed_errors() {
     world.remove_body(dynamic).unwrap();
     assert_eq!(
         world.set_motion(dynamic, Motion::Kinematic),
-        Err(MotionError::BodyGone(dynamic.0))
+        Err(MotionError::NoSuchBody(dynamic.0))
     );
     world.settings.pipeline = Pipeline::Classic;
     assert_eq!(world.try_step(DT), Err(StepError::KinematicNeedsSoft(1)));

@@ -654,3 +654,57 @@ fn too_many_compound_parts_are_refused() {
     );
     assert!(scene::parse(&text, FILE).is_ok());
 }
+
+/// A finite speed whose kinetic energy ½ m v² is not: 1e160 m/s on a 4 kg ball gives a
+/// momentum of 4e160 kg·m/s but 2e320 J, beyond f64 (it was accepted before, and the totals
+/// read infinity). A spin the same; 1e150 m/s (2e300 J) is still accepted.
+#[test]
+fn a_speed_whose_kinetic_energy_overflows_is_refused() {
+    let ball = r#"name: "bullet", shape: Sphere(radius: 0.1)"#;
+    for (field, value) in [("velocity", "1e160"), ("angular_velocity", "1e162")] {
+        let message = body_error(&format!("{ball}, {field}: ({value}, 0.0, 0.0)"));
+        assert_names(&message, "'bullet'", field);
+        assert!(message.contains("kinetic energy"), "{message}");
+    }
+    let text = scene_with("", &format!("{ball}, velocity: (1e150, 0.0, 0.0)"));
+    let world = scene::parse(&text, FILE).unwrap().build_world().unwrap();
+    assert!(world.totals().kinetic_energy.is_finite());
+}
+
+/// Gravity, wind and drag beyond their documented limits are refused with the force and
+/// field named, as snapshots refuse them; at the limits they are accepted.
+#[test]
+fn forces_beyond_their_limits_are_refused() {
+    use rigid::physics::{MAX_DRAG_COEFFICIENT, MAX_GRAVITY, MAX_WIND_SPEED};
+    let gravity = "Gravity(acceleration: (0.0, -9.81, 0.0))";
+    let cases = [
+        ("Gravity(acceleration: (0.0, -1e12, 0.0))", "acceleration"),
+        ("Gravity(acceleration: (0.0, -1e308, 0.0))", "acceleration"),
+        (
+            "Wind(velocity: (1e300, 0.0, 0.0), coefficient: 1.0)",
+            "velocity",
+        ),
+        (
+            "Wind(velocity: (1.0, 0.0, 0.0), coefficient: 1e9)",
+            "coefficient",
+        ),
+        ("LinearDrag(coefficient: 1e9)", "coefficient"),
+        ("QuadraticDrag(coefficient: 1e9)", "coefficient"),
+    ];
+    for (force, field) in cases {
+        let text = scene_with("", r#"shape: Sphere(radius: 1.0)"#)
+            .replace(gravity, &format!("{gravity}, {force}"));
+        let message = parse_error(&text);
+        let expected = format!("scenes/test.ron: field 'forces[1].{field}'");
+        assert!(message.starts_with(&expected), "{force}: {message}");
+        assert!(message.contains("at most"), "{message}");
+    }
+    let at_limits = format!(
+        "{gravity}, Gravity(acceleration: (0.0, -{}, 0.0)), Wind(velocity: ({MAX_WIND_SPEED:e}, \
+         0.0, 0.0), coefficient: {MAX_DRAG_COEFFICIENT:e}), LinearDrag(coefficient: \
+         {MAX_DRAG_COEFFICIENT:e})",
+        MAX_GRAVITY - 9.81
+    );
+    let text = scene_with("", r#"shape: Sphere(radius: 1.0)"#).replace(gravity, &at_limits);
+    assert!(scene::parse(&text, FILE).is_ok());
+}

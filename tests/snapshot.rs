@@ -161,6 +161,8 @@ fn a_snapshot_with_more_bodies_than_a_world_holds_is_refused() {
     let mut snapshot = world.to_snapshot();
     let body = snapshot.bodies[1].clone();
     snapshot.bodies.resize(MAX_BODIES, body);
+    // As a snapshot from before generations: no list to keep the length of.
+    snapshot.generations.clear();
     assert_eq!(snapshot.check(FILE), Ok(()), "the limit itself is accepted");
     snapshot.bodies.push(snapshot.bodies[1].clone());
     let error = snapshot.check(FILE).unwrap_err();
@@ -316,4 +318,64 @@ fn negative_drag_and_a_wrapping_step_count_are_refused() {
     let mut world = World::from_snapshot(snapshot, FILE).unwrap();
     world.step(DT);
     assert_eq!(world.step_count(), (1 << 53) + 1);
+}
+
+/// A snapshot's forces meet the scene's limits: gravity of 1e12 m/s² or wind of 1e300 m/s
+/// is refused with the force and field named.
+#[test]
+fn forces_beyond_their_limits_are_refused_in_a_snapshot() {
+    let gravity = EnvironmentForce::Gravity {
+        acceleration: DVec3::new(0.0, -1e12, 0.0),
+    };
+    let wind = EnvironmentForce::Wind {
+        velocity: DVec3::new(1e300, 0.0, 0.0),
+        coefficient: 1.0,
+    };
+    for (force, field) in [
+        (gravity, "forces[1].acceleration"),
+        (wind, "forces[1].velocity"),
+    ] {
+        let text = edited(|s| s.forces.push(force)).unwrap_err().to_string();
+        assert!(text.starts_with(FILE) && text.contains(field), "{text}");
+        assert!(text.contains("at most"), "{text}");
+    }
+}
+
+/// Generations survive a snapshot: a removed body's id is refused in the restored world too,
+/// the restored world reuses the same slot as the original, and a snapshot written before
+/// generations (no `generations` field) still loads, with its removed bodies' ids refused.
+#[test]
+fn generations_survive_a_snapshot_and_older_snapshots_still_load() {
+    let mut world = scene_world("stack");
+    run(&mut world, 5);
+    let removed = world.id_at(3).unwrap();
+    world.remove_body(removed).unwrap();
+    let mut restored = round_trip(&world);
+    assert!(restored.get_body(removed).is_none());
+    let ball = || BodyDesc::dynamic(Shape::sphere(0.2)).at(DVec3::new(3.0, 1.0, 0.0));
+    let (a, b) = (
+        world.add_body(ball()).unwrap(),
+        restored.add_body(ball()).unwrap(),
+    );
+    assert_eq!((a, a.index()), (b, removed.index()));
+    run(&mut world, 30);
+    run(&mut restored, 30);
+    assert_eq!(world.to_snapshot(), restored.to_snapshot());
+
+    let mut old = world.to_snapshot();
+    old.generations.clear();
+    let text = old.to_ron();
+    let old: String = (text.lines())
+        .filter(|line| !line.trim_start().starts_with("generations:"))
+        .map(|line| format!("{line}\n"))
+        .collect();
+    assert!(!old.contains("generations") && text.contains("generations"));
+    let older = World::from_snapshot(WorldSnapshot::from_ron(&old, FILE).unwrap(), FILE).unwrap();
+    assert_eq!(older.bodies().len(), world.bodies().len());
+
+    let error = edited(|s| s.generations.push(0)).unwrap_err().to_string();
+    assert!(
+        error.starts_with(FILE) && error.contains("generations"),
+        "{error}"
+    );
 }

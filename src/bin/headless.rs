@@ -21,6 +21,7 @@ use std::time::{Duration, Instant};
 use clap::{Parser, ValueEnum};
 use glam::{DQuat, DVec3};
 use indicatif::{ProgressBar, ProgressStyle};
+use rigid::cli_arg::Utf8Text;
 use rigid::physics::{Integrator, RigidBody, SnapshotError, World, WorldSnapshot, WorldTotals};
 use rigid::scene::{self, DEFAULT_SCENE, DT_RANGE};
 use rigid::sim::{FileCommands, Recording, SavedWorld, Simulation};
@@ -29,7 +30,7 @@ use rigid::sim::{FileCommands, Recording, SavedWorld, Simulation};
 #[command(about = "Run a scene without a window and report energy and momentum")]
 struct Args {
     /// A built-in scene name or a path to a .ron scene file.
-    #[arg(long, default_value = DEFAULT_SCENE)]
+    #[arg(long, default_value = DEFAULT_SCENE, value_parser = Utf8Text)]
     scene: String,
     /// Number of steps.
     #[arg(long, default_value_t = 1000)]
@@ -118,11 +119,13 @@ fn run(args: &Args) -> Result<(), String> {
     let started = Instant::now();
     output.write(&world)?;
     let mut progress = Progress::new("steps", args.steps);
+    let mut faults = FaultLog::after(&world);
     for step in 1..=args.steps {
         world.step(dt);
         if step % args.every == 0 || step == args.steps {
             output.write(&world)?;
         }
+        faults.report_new(&world, &progress);
         progress.update(step);
     }
     progress.finish();
@@ -270,8 +273,10 @@ fn replay(args: &Args, path: &Path) -> Result<(), String> {
     let initial = sim.world().totals();
     let started = Instant::now();
     let mut progress = Progress::new("ticks", recording.ticks);
+    let mut faults = FaultLog::after(sim.world());
     while sim.ticks() < recording.ticks {
         sim.step();
+        faults.report_new(sim.world(), &progress);
         progress.update(sim.ticks());
     }
     progress.finish();
@@ -352,10 +357,47 @@ impl Progress {
         ))
     }
 
+    /// A line on stderr, above the bar when there is one.
+    fn println(&self, line: &str) {
+        match &self.bar {
+            Some(bar) => bar.println(line),
+            None => eprintln!("{line}"),
+        }
+    }
+
     fn finish(&self) {
         if let Some(bar) = &self.bar {
             bar.finish_and_clear();
         }
+    }
+}
+
+/// Prints each fault as the step that caught it reports it: an isolated body drops out of
+/// the CSV, and without a word the reader could not tell why.
+struct FaultLog {
+    /// Faults already printed, or present when the run started (a resumed world's).
+    reported: usize,
+}
+
+impl FaultLog {
+    fn after(world: &World) -> Self {
+        FaultLog {
+            reported: world.faults().len(),
+        }
+    }
+
+    fn report_new(&mut self, world: &World, progress: &Progress) {
+        for fault in &world.faults()[self.reported..] {
+            progress.println(&format!(
+                "fault: step {} (t = {} s): body {} '{}' isolated: {}",
+                fault.step,
+                fault.time,
+                fault.body.index(),
+                fault.name,
+                fault.reason
+            ));
+        }
+        self.reported = world.faults().len();
     }
 }
 
@@ -561,6 +603,10 @@ fn summary(label: &str, world: &World, dt: f64, wall: f64, initial: &WorldTotals
             last.potential_energy
         ),
         format!("energy drift     {}", drift(e0, e1)),
+        format!(
+            "faults           {} bodies isolated (non-finite or beyond contact range)",
+            world.faults().len()
+        ),
         format!(
             "linear momentum  initial {}, final {} kg·m/s",
             initial.linear_momentum, last.linear_momentum

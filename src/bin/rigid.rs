@@ -19,6 +19,7 @@ mod desktop {
 
     use clap::{Parser, Subcommand};
 
+    use rigid::cli_arg::Utf8Text;
     use rigid::render::Overlays;
     use rigid::render::gpu::Gpu;
     use rigid::render::headless;
@@ -28,7 +29,7 @@ mod desktop {
     #[command(version, about = "Real-time rigid-body physics viewer")]
     struct Cli {
         /// Scene to open (see `rigid scenes`).
-        #[arg(long, default_value = DEFAULT_SCENE)]
+        #[arg(long, default_value = DEFAULT_SCENE, value_parser = Utf8Text)]
         scene: String,
         /// Close the window after this many seconds (for scripted runs and tests).
         #[arg(long)]
@@ -54,7 +55,7 @@ mod desktop {
         Render {
             /// Output PNG.
             output: PathBuf,
-            #[arg(long, default_value = DEFAULT_SCENE)]
+            #[arg(long, default_value = DEFAULT_SCENE, value_parser = Utf8Text)]
             scene: String,
             /// Fixed steps (of 1/120 s) to simulate before drawing.
             #[arg(long, default_value_t = 0)]

@@ -26,7 +26,11 @@ pub use collision::broad_phase::{BodyPair, BroadPhase, BroadPhaseKind, Proxy};
 pub use collision::contact::{Contact, ContactKind, ContactManifold, FeatureId};
 pub use collision::manifold::{contact_manifold, generate_contacts};
 pub use dynamics::body::{BodyDesc, BodyError, BodyId, MAX_FRICTION, Material, Motion, RigidBody};
-pub use dynamics::forces::{EnvironmentForce, STANDARD_GRAVITY};
+pub use dynamics::containment::{MAX_CONTACT_POSITION, MAX_CONTACT_SPEED};
+pub use dynamics::forces::{
+    EnvironmentForce, ForceError, MAX_DRAG_COEFFICIENT, MAX_GRAVITY, MAX_WIND_SPEED,
+    STANDARD_GRAVITY,
+};
 pub use dynamics::integrate::Integrator;
 pub use dynamics::islands::SleepSettings;
 pub use geometry::aabb::Aabb;
@@ -49,6 +53,6 @@ pub use solver::toi::{
 };
 pub use stage_times::StageTimes;
 pub use world::{
-    AddBodyError, DEFAULT_MAX_PAIRS, Fault, MAX_BODIES, MAX_STEP, MotionError, PairBudgetFault,
-    Pipeline, RemoveError, StepError, World, WorldSettings, WorldTotals,
+    AddBodyError, DEFAULT_MAX_PAIRS, Fault, FaultReason, MAX_BODIES, MAX_STEP, MotionError,
+    PairBudgetFault, Pipeline, RemoveError, StepError, World, WorldSettings, WorldTotals,
 };

@@ -60,6 +60,10 @@ pub struct WorldSnapshot {
     /// joints: none).
     #[serde(default)]
     pub joints: Vec<Option<Joint>>,
+    /// Per body slot, the generation of its id (see `BodyId`); empty in snapshots written
+    /// before ids had generations.
+    #[serde(default)]
+    pub generations: Vec<u32>,
 }
 
 /// Why a snapshot could not be read, written or used. `file` names the snapshot as the
@@ -189,6 +193,7 @@ impl WorldSnapshot {
                 self.proxies.len()
             )));
         }
+        check_generations(&self.generations, &self.bodies).map_err(inconsistent)?;
         if self.touched.iter().any(|&i| i as usize >= count) {
             return Err(inconsistent("touched names a missing body".into()));
         }
@@ -214,10 +219,10 @@ impl WorldSnapshot {
         self.check_joints().map_err(inconsistent)?;
         check_settings(&self.settings).map_err(|m| inconsistent(format!("settings: {m}")))?;
         // The loader of scenes refuses the same: a negative drag pumps energy in.
-        if let Some((index, force)) = self.forces.iter().enumerate().find(|(_, f)| !f.is_valid()) {
-            return Err(inconsistent(format!(
-                "forces[{index}] ({force:?}): a force must be finite, and a coefficient not negative"
-            )));
+        for (index, force) in self.forces.iter().enumerate() {
+            force
+                .validate()
+                .map_err(|e| inconsistent(format!("forces[{index}].{e}")))?;
         }
         Ok(())
     }
@@ -230,10 +235,13 @@ impl WorldSnapshot {
     fn check_joints(&self) -> Result<(), String> {
         for (index, joint) in self.joints.iter().enumerate() {
             let Some(joint) = joint else { continue };
+            // Current: the generation of its slot (0 in a snapshot without generations).
+            let current = |id: BodyId| {
+                let generation = self.generations.get(id.index()).copied().unwrap_or(0);
+                id.generation() == generation
+            };
             let body = |id: BodyId| {
-                self.bodies
-                    .get(id.index())
-                    .filter(|b| b.motion.takes_part())
+                (self.bodies.get(id.index())).filter(|b| current(id) && b.motion.takes_part())
             };
             if body(joint.body_a).is_none() || body(joint.body_b).is_none() {
                 return Err(format!("joints[{index}] names a missing or removed body"));
@@ -245,6 +253,26 @@ impl WorldSnapshot {
             joint.check().map_err(|m| format!("joints[{index}]: {m}"))?;
         }
         Ok(())
+    }
+}
+
+/// One generation per body, none past `BodyId::MAX_GENERATION`, or none at all (an older
+/// snapshot).
+fn check_generations(generations: &[u32], bodies: &[RigidBody]) -> Result<(), String> {
+    if !generations.is_empty() && generations.len() != bodies.len() {
+        return Err(format!(
+            "generations: {} listed for {} bodies",
+            generations.len(),
+            bodies.len()
+        ));
+    }
+    match generations.iter().position(|&g| g > BodyId::MAX_GENERATION) {
+        Some(index) => Err(format!(
+            "generations[{index}] must be at most {}, got {}",
+            BodyId::MAX_GENERATION,
+            generations[index]
+        )),
+        None => Ok(()),
     }
 }
 

@@ -29,9 +29,11 @@ use crate::physics::collision::manifold_memory::ManifoldMemory;
 use crate::physics::collision::narrow_phase::{self, NarrowScratch};
 use crate::physics::dynamics::awake_set::AwakeSet;
 use crate::physics::dynamics::body::{BodyDesc, BodyError, BodyId, Motion, RigidBody};
+use crate::physics::dynamics::containment;
 use crate::physics::dynamics::forces::{self, EnvironmentForce};
 use crate::physics::dynamics::integrate::{self, Integrator};
 use crate::physics::dynamics::islands::{self, IslandScratch, SleepSettings};
+use crate::physics::dynamics::slots::Slots;
 use crate::physics::geometry::aabb::Aabb;
 use crate::physics::joints::joint::Joint;
 use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
@@ -100,7 +102,8 @@ pub enum Pipeline {
 /// A world starts empty and without gravity (`World::default()` or `World::new(settings)`);
 /// push onto `forces` (`EnvironmentForce::earth_gravity()`) and edit `settings` freely between
 /// steps. Bodies come from a [`BodyDesc`] through `add_body`, which returns the body's
-/// [`BodyId`]; ids stay valid for the world's life, since `remove_body` keeps the slot. Read
+/// [`BodyId`]; an id stays valid until `remove_body` takes its body out, after which it is
+/// refused (`get_body` answers None) even once a new body has taken the slot. Read
 /// bodies with `body` and `bodies`, change them through `body_mut` (the next step looks at
 /// a changed body again). Joints come from a [`JointDesc`](crate::physics::JointDesc)
 /// through `add_joint`; kinematic bodies move by `set_kinematic_velocity` or
@@ -118,6 +121,8 @@ pub enum Pipeline {
 #[derive(Clone, Debug)]
 pub struct World {
     bodies: Vec<RigidBody>,
+    /// The generation of each body slot, and the removed slots to reuse.
+    slots: Slots,
     broad_phase: SplitBroadPhase,
     /// Broad-phase proxies kept between steps (see `narrow_phase::update_proxies`).
     proxies: Vec<Proxy>,
@@ -180,10 +185,11 @@ impl Default for World {
 /// that a typo (a dt in milliseconds) is caught.
 pub const MAX_STEP: f64 = 1.0;
 
-/// Most bodies a world holds, removed ones included (their slots keep the other ids valid).
+/// Most body slots a world holds (a removed body's slot is reused by a later body).
 /// Scenes share the limit: beyond it a count is almost certainly a typo or a runaway loop,
 /// and building the bodies would only exhaust memory.
 pub const MAX_BODIES: usize = 100_000;
+const _: () = assert!(MAX_BODIES <= 1 << BodyId::INDEX_BITS);
 
 /// Why `World::add_body` refused a body; the world is left as it was.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -191,7 +197,7 @@ pub enum AddBodyError {
     /// The description failed `BodyDesc::validate`.
     #[error(transparent)]
     Invalid(#[from] BodyError),
-    /// The world already holds `MAX_BODIES` bodies.
+    /// The world already holds `MAX_BODIES` bodies, and no removed body's slot is free.
     #[error("the world already holds {MAX_BODIES} bodies, the most it takes")]
     TooManyBodies,
 }
@@ -237,6 +243,36 @@ pub struct Fault {
     pub step: u64,
     /// Simulated time at the start of that step, s.
     pub time: f64,
+    /// Why it was isolated (faults saved before reasons were kept read as `NonFinite`).
+    #[serde(default)]
+    pub reason: FaultReason,
+}
+
+/// Why a body was isolated.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FaultReason {
+    /// Its state, force or torque was NaN or infinite.
+    #[default]
+    NonFinite,
+    /// It was about to touch another body with a speed or spin beyond `MAX_CONTACT_SPEED`,
+    /// or a coordinate beyond `MAX_CONTACT_POSITION`, where the contact's arithmetic would
+    /// overflow or create energy.
+    BeyondContactRange,
+}
+
+impl std::fmt::Display for FaultReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FaultReason::NonFinite => f.write_str("its state, force or torque is not finite"),
+            FaultReason::BeyondContactRange => write!(
+                f,
+                "it met another body at a speed or spin over {:e} (or a coordinate over {:e}), \
+                 beyond what a contact can compute",
+                containment::MAX_CONTACT_SPEED,
+                containment::MAX_CONTACT_POSITION
+            ),
+        }
+    }
 }
 
 /// A step whose broad phase found more pairs than `WorldSettings::max_pairs`: it kept that
@@ -272,6 +308,7 @@ impl World {
     pub fn new(settings: WorldSettings) -> Self {
         World {
             bodies: Vec::new(),
+            slots: Slots::default(),
             broad_phase: SplitBroadPhase::new(settings.broad_phase),
             proxies: Vec::new(),
             awake_set: AwakeSet::default(),
@@ -319,6 +356,7 @@ impl World {
             awake: self.awake,
             faults: self.faults.clone(),
             joints: self.joints.clone(),
+            generations: self.slots.generations().to_vec(),
         }
     }
 
@@ -327,6 +365,7 @@ impl World {
     pub fn from_snapshot(snapshot: WorldSnapshot, file: &str) -> Result<World, SnapshotError> {
         snapshot.check(file)?;
         Ok(World {
+            slots: Slots::restored(snapshot.generations, &snapshot.bodies),
             bodies: snapshot.bodies,
             proxies: snapshot.proxies,
             awake_set: AwakeSet::with_touched(snapshot.touched),
@@ -344,30 +383,44 @@ impl World {
         })
     }
 
-    /// Adds a body; the description is validated first, and a world already holding
-    /// `MAX_BODIES` bodies refuses it.
+    /// Adds a body; the description is validated first. It takes the lowest slot a removed
+    /// body left, if any, under a new generation (see `BodyId`); a world whose `MAX_BODIES`
+    /// slots are all held refuses it.
     pub fn add_body(&mut self, desc: BodyDesc) -> Result<BodyId, AddBodyError> {
-        if self.bodies.len() >= MAX_BODIES {
-            return Err(AddBodyError::TooManyBodies);
-        }
         let body = RigidBody::from_desc(&desc)?;
-        let id = BodyId(self.bodies.len() as u32);
-        self.bodies.push(body);
+        let id = match self.slots.reuse() {
+            Some(id) => {
+                self.bodies[id.index()] = body;
+                // The removed body's warm-start impulses must not start the new one.
+                self.contact_cache.forget_body(id.index());
+                id
+            }
+            None if self.bodies.len() >= MAX_BODIES => return Err(AddBodyError::TooManyBodies),
+            None => {
+                self.bodies.push(body);
+                self.slots.push()
+            }
+        };
         self.awake_set.touch(id.index());
         Ok(id)
     }
 
     /// Takes a body out: it no longer moves, feels forces or touches anything, and every
     /// sleeping body whose broad-phase box touched its box wakes up, so that what rested on
-    /// it falls. Its joints are removed with it. Its slot stays (see `Motion::Removed`), so
-    /// other ids stay valid.
+    /// it falls. Its joints are removed with it. Its id is refused from then on, and its
+    /// slot goes to a later body.
     pub fn remove_body(&mut self, id: BodyId) -> Result<(), RemoveError> {
         let index = id.index();
         match self.bodies.get(index).map(|b| b.motion) {
             None => return Err(RemoveError::NoSuchBody(id.0)),
+            // An older generation: the body it named was removed (its slot may hold another).
+            Some(_) if !self.slots.is_current(id) => {
+                return Err(RemoveError::AlreadyRemoved(id.0));
+            }
             Some(Motion::Removed) => return Err(RemoveError::AlreadyRemoved(id.0)),
             Some(_) => {}
         }
+        self.slots.release(index);
         self.wake_neighbours(index);
         self.remove_joints_of(index);
         let body = &mut self.bodies[index];
@@ -396,44 +449,56 @@ impl World {
     /// The body `id`.
     ///
     /// # Panics
-    /// If the world has no such body (an id from another world); `get_body` does not.
+    /// If the world has no such body: an id from another world, or of a removed body (whose
+    /// slot may hold another by now); `get_body` does not.
     pub fn body(&self, id: BodyId) -> &RigidBody {
-        &self.bodies[id.index()]
+        self.get_body(id)
+            .unwrap_or_else(|| panic!("no body {id:?} in this world (removed, or never added)"))
     }
 
-    /// The body `id`, or None if the world has no such body.
+    /// The body `id`, or None if the world has no such body (or `id` names a removed one).
     pub fn get_body(&self, id: BodyId) -> Option<&RigidBody> {
-        self.bodies.get(id.index())
+        self.slots.is_current(id).then(|| &self.bodies[id.index()])
     }
 
-    /// `body_mut`, or None if the world has no such body.
+    /// `body_mut`, or None if the world has no such body (or `id` names a removed one).
     pub fn get_body_mut(&mut self, id: BodyId) -> Option<&mut RigidBody> {
-        let body = self.bodies.get_mut(id.index())?;
+        if !self.slots.is_current(id) {
+            return None;
+        }
         self.awake_set.touch(id.index());
-        Some(body)
+        Some(&mut self.bodies[id.index()])
     }
 
     /// Mutable access; the next step looks at the body again (its box, whether it is awake,
     /// whether its state is finite).
     ///
     /// # Panics
-    /// If the world has no such body; `get_body_mut` does not.
+    /// As `body`; `get_body_mut` does not.
     pub fn body_mut(&mut self, id: BodyId) -> &mut RigidBody {
-        if id.index() < self.bodies.len() {
-            self.awake_set.touch(id.index());
-        }
-        &mut self.bodies[id.index()]
+        self.get_body_mut(id)
+            .unwrap_or_else(|| panic!("no body {id:?} in this world (removed, or never added)"))
     }
 
-    /// Every body, indexed by `BodyId::index`; isolated and removed ones included (see
-    /// `RigidBody::motion`).
+    /// The id the body in slot `index` (of `bodies`) answers to, if the slot exists.
+    pub fn id_at(&self, index: usize) -> Option<BodyId> {
+        (index < self.bodies.len()).then(|| self.slots.current(index))
+    }
+
+    /// Every body slot, indexed by `BodyId::index`; isolated and removed bodies included
+    /// (see `RigidBody::motion`) until a new body takes a removed one's slot.
     pub fn bodies(&self) -> &[RigidBody] {
         &self.bodies
     }
 
-    /// The ids of every body, removed ones included, in order.
+    /// The current id of every slot, in order (a removed body's slot answers to the id its
+    /// next body will get).
     pub fn body_ids(&self) -> impl Iterator<Item = BodyId> + use<> {
-        (0..self.bodies.len() as u32).map(BodyId)
+        // Gathered, so that the caller may edit the world while walking them.
+        let ids: Vec<BodyId> = (0..self.bodies.len())
+            .map(|index| self.slots.current(index))
+            .collect();
+        ids.into_iter()
     }
 
     /// Simulated time, s.
@@ -491,6 +556,9 @@ impl World {
             timed(on, &mut times.broad_phase, || {
                 self.wake_on_user_input(&touched);
                 self.broad_phase(dt, &touched);
+            });
+            timed(on, &mut times.checks, || {
+                self.isolate_beyond_range(&touched)
             });
             timed(on, &mut times.narrow_phase, || {
                 self.narrow_phase(dt, &touched)
@@ -792,19 +860,39 @@ impl World {
     fn isolate_non_finite(&mut self, bodies: &[u32]) {
         for &index in bodies {
             if needs_isolating(&self.bodies[index as usize]) {
-                // What rested on it must not stay asleep in mid-air, as on a removal.
-                self.wake_neighbours(index as usize);
-                let body = &mut self.bodies[index as usize];
-                body.motion = Motion::Isolated;
-                self.faults.push(Fault {
-                    body: BodyId(index),
-                    name: body.name.clone(),
-                    step: self.steps,
-                    time: self.time,
-                });
-                self.awake_set.touch(index as usize);
+                self.isolate(index, FaultReason::NonFinite);
             }
         }
+    }
+
+    /// Before the narrow phase: a body beyond contact range loses its pairs, and is
+    /// isolated if it had any, so that no contact computes with its numbers; the bodies it
+    /// would have touched go on untouched.
+    fn isolate_beyond_range(&mut self, touched: &[u32]) {
+        let awake = self.awake_set.awake(&self.bodies);
+        let far = containment::bodies_beyond_range(&self.bodies, awake, touched);
+        if far.is_empty() {
+            return;
+        }
+        for index in containment::drop_pairs_of(&mut self.pairs, &far) {
+            self.isolate(index, FaultReason::BeyondContactRange);
+        }
+    }
+
+    /// Takes body `index` out of the simulation and lists it in `faults`.
+    fn isolate(&mut self, index: u32, reason: FaultReason) {
+        // What rested on it must not stay asleep in mid-air, as on a removal.
+        self.wake_neighbours(index as usize);
+        let body = &mut self.bodies[index as usize];
+        body.motion = Motion::Isolated;
+        self.faults.push(Fault {
+            body: self.slots.current(index as usize),
+            name: body.name.clone(),
+            step: self.steps,
+            time: self.time,
+            reason,
+        });
+        self.awake_set.touch(index as usize);
     }
 
     /// Energy and momentum summed over the dynamic bodies (isolated and removed ones left

@@ -185,7 +185,7 @@ fn body_error(file: &str, error: BodyError) -> SceneError {
     field_of(error).in_body(file, &body)
 }
 
-fn to_force(force: &ForceSpec) -> EnvironmentForce {
+pub(crate) fn to_force(force: &ForceSpec) -> EnvironmentForce {
     match *force {
         ForceSpec::Gravity { acceleration } => EnvironmentForce::Gravity { acceleration },
         ForceSpec::LinearDrag { coefficient } => EnvironmentForce::LinearDrag { coefficient },

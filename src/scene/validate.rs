@@ -8,6 +8,7 @@ use glam::DVec3;
 
 use crate::physics::Material;
 use crate::physics::geometry::shape::{MAX_EXTENT, MIN_EXTENT};
+use crate::scene::build::to_force;
 use crate::scene::error::{FieldError, SceneError};
 use crate::scene::file::{Camera, ForceSpec, Scene};
 
@@ -50,20 +51,25 @@ fn check_camera(camera: &Camera) -> Result<(), FieldError> {
     Ok(())
 }
 
+/// Finite first (naming the component), then within the engine's limits
+/// (`EnvironmentForce::validate`).
 fn check_force(force: &ForceSpec) -> Result<(), FieldError> {
     match *force {
-        ForceSpec::Gravity { acceleration } => vector("acceleration", acceleration),
+        ForceSpec::Gravity { acceleration } => vector("acceleration", acceleration)?,
         ForceSpec::LinearDrag { coefficient } | ForceSpec::QuadraticDrag { coefficient } => {
-            non_negative("coefficient", coefficient)
+            non_negative("coefficient", coefficient)?
         }
         ForceSpec::Wind {
             velocity,
             coefficient,
         } => {
             vector("velocity", velocity)?;
-            non_negative("coefficient", coefficient)
+            non_negative("coefficient", coefficient)?
         }
     }
+    to_force(force)
+        .validate()
+        .map_err(|e| FieldError::new(e.field, e.reason))
 }
 
 /// Density, restitution and friction, for named and inline materials alike.

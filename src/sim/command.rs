@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::physics::{BroadPhaseKind, Integrator, Pipeline};
+use crate::physics::{BroadPhaseKind, EnvironmentForce, Integrator, Pipeline};
 
 /// The primitive a spawn button creates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -159,9 +159,10 @@ impl Command {
     }
 
     /// Refuses the values no control of the viewer sends and the simulation cannot run with:
-    /// a dt outside [`DT_RANGE`] (NaN would freeze the world), or a non-finite gravity, time
-    /// scale, material coefficient or spawn. `SetMaterial` and `ApplyImpulse` ignore
-    /// non-finite values themselves, so are not refused here.
+    /// a dt outside [`DT_RANGE`] (NaN would freeze the world), a gravity beyond
+    /// `MAX_GRAVITY` or not finite, or a non-finite time scale, material coefficient or
+    /// spawn. `SetMaterial` and `ApplyImpulse` ignore non-finite values themselves, so are not
+    /// refused here.
     pub fn check(&self) -> Result<(), String> {
         let finite = |field: &str, ok: bool, value: &dyn std::fmt::Display| {
             if ok {
@@ -179,7 +180,9 @@ impl Command {
                     Err(format!("dt must lie in [{min}, {max}] s, got {dt}"))
                 }
             }
-            Command::SetGravity(g) => finite("gravity", g.is_finite(), g),
+            Command::SetGravity(g) => EnvironmentForce::Gravity { acceleration: *g }
+                .validate()
+                .map_err(|e| format!("gravity {}", e.reason)),
             Command::SetTimeScale(s) => finite("time scale", s.is_finite(), s),
             Command::SetRestitution(e) => finite("restitution", e.is_finite(), e),
             Command::SetFriction(mu) => finite("friction", mu.is_finite(), mu),

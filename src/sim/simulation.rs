@@ -11,9 +11,8 @@ use glam::{DVec3, Vec3};
 
 use crate::physics::collision::broad_phase::UniformGrid;
 use crate::physics::{
-    Aabb, BodyId, BroadPhaseKind, EnvironmentForce, Fault, Material, Motion, RigidBody, World,
+    Aabb, BroadPhaseKind, EnvironmentForce, Fault, Material, Motion, RemoveError, RigidBody, World,
 };
-use crate::scene::MAX_BODIES;
 use crate::sim::command::{Command, DT_RANGE, SpawnKind};
 use crate::sim::recording::{FileCommands, RecordedCommand, Recording, RecordingError};
 use crate::sim::saved_world::SavedWorld;
@@ -240,9 +239,10 @@ impl Simulation {
                 point,
             } => self.apply_impulse(body, impulse, point),
             Command::RemoveBody { body } => {
-                let removed = self
-                    .world
-                    .remove_body(BodyId(body.min(u32::MAX as usize) as u32));
+                let removed = match self.world.id_at(body) {
+                    Some(id) => self.world.remove_body(id),
+                    None => Err(RemoveError::NoSuchBody(body.min(u32::MAX as usize) as u32)),
+                };
                 self.message = removed.err().map(|e| e.to_string());
             }
             Command::SaveWorld(path) => self.save_world(&path),
@@ -455,8 +455,19 @@ impl Simulation {
                 self.shapes.shapes.len() - 1
             }
         };
+        let pose = pose_of(body);
+        if index < self.shape_ids.len() {
+            // A spawn in a removed body's slot: a spawn is always drawn, and of its material.
+            self.shape_ids[index] = id as u32;
+            self.previous[index] = pose;
+            self.materials[index] = SPAWNED_MATERIAL.to_string();
+            if let Some(hidden) = self.hidden.get_mut(index) {
+                *hidden = false;
+            }
+            return;
+        }
         self.shape_ids.push(id as u32);
-        self.previous.push(pose_of(body));
+        self.previous.push(pose);
         // Scene bodies arrive named by `install`; bodies added later are spawns.
         if self.materials.len() <= index {
             self.materials
@@ -509,12 +520,6 @@ impl Simulation {
     }
 
     fn spawn(&mut self, kind: SpawnKind, position: DVec3, velocity: DVec3) {
-        if self.world.bodies().len() >= MAX_BODIES {
-            self.message = Some(format!(
-                "spawn refused: the world holds {MAX_BODIES} bodies"
-            ));
-            return;
-        }
         let material = Material {
             restitution: self.settings.restitution,
             friction: self.settings.friction,
@@ -531,7 +536,7 @@ impl Simulation {
                 boxes.push(placed);
                 self.track_body(id.index());
             }
-            Err(e) => self.message = Some(e.to_string()),
+            Err(e) => self.message = Some(format!("spawn refused: {e}")),
         }
     }
 
@@ -539,7 +544,10 @@ impl Simulation {
         if index >= self.world.bodies().len() || !impulse.is_finite() || !point.is_finite() {
             return;
         }
-        let body = self.world.body_mut(BodyId(index as u32));
+        let Some(id) = self.world.id_at(index) else {
+            return;
+        };
+        let body = self.world.body_mut(id);
         if body.is_dynamic() {
             body.apply_impulse_at(impulse, point);
         }
@@ -723,6 +731,7 @@ fn contact_lines(world: &World) -> Vec<LineSegment> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::BodyId;
     use crate::physics::Shape;
 
     #[test]
@@ -925,6 +934,23 @@ mod tests {
         assert!(after.shapes.generation > before.generation);
         assert_eq!(after.bodies[3].shape_id, after.bodies[4].shape_id);
         assert_eq!(after.bodies[4].velocity, glam::Vec3::X);
+    }
+
+    /// Gravity past `MAX_GRAVITY` is refused with a message, as a scene refuses it, and the
+    /// world keeps the gravity it had (1e12 m/s² made bodies tunnel, 1e308 overflowed).
+    #[test]
+    fn gravity_beyond_its_limit_is_refused() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        let before = gravity_of(sim.world());
+        for g in [1e12, 1e308] {
+            sim.apply(Command::SetGravity(DVec3::new(0.0, -g, 0.0)));
+            let message = sim.message.clone().unwrap_or_default();
+            assert!(
+                message.starts_with("SetGravity refused: gravity"),
+                "{message}"
+            );
+            assert_eq!(gravity_of(sim.world()), before);
+        }
     }
 
     #[test]

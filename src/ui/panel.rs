@@ -349,7 +349,7 @@ fn faults(ui: &mut egui::Ui, snapshot: &Snapshot) {
     ui.colored_label(
         colour,
         format!(
-            "isolated, state no longer finite: {} bodies",
+            "isolated (not finite, or beyond contact range): {} bodies",
             snapshot.fault_count
         ),
     );
@@ -357,11 +357,12 @@ fn faults(ui: &mut egui::Ui, snapshot: &Snapshot) {
         ui.colored_label(
             colour,
             format!(
-                "  {} (body {}) at step {}, t = {:.3} s",
+                "  {} (body {}) at step {}, t = {:.3} s: {}",
                 fault.name,
                 fault.body.index(),
                 fault.step,
-                fault.time
+                fault.time,
+                fault.reason
             ),
         );
     }

@@ -73,9 +73,10 @@ impl Contact {
 /// All contacts between one pair of bodies, sharing one normal (from A to B).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ContactManifold {
-    /// Body A: the normals point away from it.
+    /// Body A: the normals point away from it. Its slot, at generation 0 (see `BodyId`):
+    /// compare it with a body's id by `BodyId::index`, or look it up with `World::id_at`.
     pub body_a: BodyId,
-    /// Body B: the normals point towards it.
+    /// Body B: the normals point towards it; a slot as `body_a` is.
     pub body_b: BodyId,
     /// Unit, from A to B, world: the deepest contact's normal.
     pub normal: DVec3,

@@ -86,6 +86,12 @@ impl ContactCache {
     pub fn clear(&mut self) {
         self.entries.clear();
     }
+
+    /// Drops the impulses of body slot `index` (a new body took it).
+    pub fn forget_body(&mut self, index: usize) {
+        let other = |((a, b, _), _): &(Key, WarmImpulse)| a.index() != index && b.index() != index;
+        self.entries.retain(other);
+    }
 }
 
 /// The body pair an entry belongs to.

@@ -12,15 +12,36 @@ use crate::physics::geometry::mass::MassProperties;
 use crate::physics::geometry::nearest_surface::NearestSurface;
 use crate::physics::geometry::shape::{Shape, ShapeError};
 
-/// Index of a body in its world, as `World::add_body` hands it out. Ids stay valid for the
-/// world's life: a removed body keeps its slot.
+/// A body's handle, as `World::add_body` hands it out: its slot in `World::bodies` in the
+/// low `BodyId::INDEX_BITS` bits, and the slot's generation above them. A removed body's
+/// slot is reused under the next generation, so the removed body's id is refused from then
+/// on (`World::get_body` answers None) instead of naming the new body. `BodyId(i)` is slot
+/// `i` at generation 0, as the world's internal lists (pairs, manifolds) spell their bodies,
+/// and as snapshots written before generations stored them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct BodyId(pub u32);
 
 impl BodyId {
+    /// Bits of the slot index: 131 072 slots, more than `MAX_BODIES`.
+    pub const INDEX_BITS: u32 = 17;
+    /// The last generation of a slot; a slot removed at it is never reused, so an id is
+    /// never aliased.
+    pub const MAX_GENERATION: u32 = (1 << (32 - Self::INDEX_BITS)) - 1;
+
+    /// The id of slot `index` at `generation` (at most `MAX_GENERATION`).
+    pub fn new(index: usize, generation: u32) -> Self {
+        debug_assert!(index < 1 << Self::INDEX_BITS && generation <= Self::MAX_GENERATION);
+        BodyId((generation << Self::INDEX_BITS) | index as u32)
+    }
+
     /// The id as an index into `World::bodies`.
     pub fn index(self) -> usize {
-        self.0 as usize
+        (self.0 & ((1 << Self::INDEX_BITS) - 1)) as usize
+    }
+
+    /// How many times the slot had been freed when this id was handed out.
+    pub fn generation(self) -> u32 {
+        self.0 >> Self::INDEX_BITS
     }
 }
 
@@ -232,6 +253,18 @@ pub enum BodyError {
         /// The mass it gave, kg.
         mass: f64,
     },
+    /// The velocity is finite but the momentum or kinetic energy it gives is not: 1e300 m/s
+    /// on a body of 1e10 kg, or 1e160 m/s on a kilogram.
+    #[error(
+        "body '{body}': {field} gives a momentum or kinetic energy beyond f64; the body \
+         could not be simulated"
+    )]
+    EnergyNotFinite {
+        /// The body's name.
+        body: String,
+        /// `velocity` or `angular_velocity`.
+        field: &'static str,
+    },
     /// A coefficient lies outside its range.
     #[error("body '{body}': {field} must lie in [{min}, {max}], got {value}")]
     OutOfRange {
@@ -365,6 +398,7 @@ impl BodyError {
         match self {
             BodyError::Shape { body, .. }
             | BodyError::NotFinite { body, .. }
+            | BodyError::EnergyNotFinite { body, .. }
             | BodyError::NotPositive { body, .. }
             | BodyError::MassNotInvertible { body, .. }
             | BodyError::OutOfRange { body, .. } => body,
@@ -376,6 +410,7 @@ impl BodyError {
         match self {
             BodyError::Shape { .. } => "shape",
             BodyError::NotFinite { field, .. }
+            | BodyError::EnergyNotFinite { field, .. }
             | BodyError::NotPositive { field, .. }
             | BodyError::MassNotInvertible { field, .. }
             | BodyError::OutOfRange { field, .. } => field,
@@ -388,6 +423,9 @@ impl BodyError {
         match self {
             BodyError::Shape { source, .. } => source.to_string(),
             BodyError::NotFinite { .. } => "must be finite".into(),
+            BodyError::EnergyNotFinite { .. } => {
+                "gives a momentum or kinetic energy beyond f64".into()
+            }
             BodyError::NotPositive { value, .. } => format!("must be positive, got {value}"),
             BodyError::OutOfRange {
                 value, min, max, ..
@@ -523,14 +561,24 @@ impl RigidBody {
             body.kinematic_velocity = desc.velocity;
             body.kinematic_spin = desc.angular_velocity;
         }
-        // A finite speed times a huge mass can overflow.
-        for (momentum, field) in [
-            (body.linear_momentum, "velocity"),
-            (body.angular_momentum, "angular_velocity"),
-        ] {
-            if !momentum.is_finite() {
+        // A finite speed times a huge mass can overflow, and so can ½ m v² when the momentum
+        // does not: such a body would break the totals and any contact at once.
+        let energies = [
+            (
+                body.linear_momentum,
+                "velocity",
+                body.velocity().dot(body.linear_momentum),
+            ),
+            (
+                body.angular_momentum,
+                "angular_velocity",
+                body.angular_velocity().dot(body.angular_momentum),
+            ),
+        ];
+        for (momentum, field, twice_energy) in energies {
+            if !momentum.is_finite() || !twice_energy.is_finite() {
                 let body = desc.name.clone();
-                return Err(BodyError::NotFinite { body, field });
+                return Err(BodyError::EnergyNotFinite { body, field });
             }
         }
         Ok(body)

@@ -60,20 +60,74 @@ impl EnvironmentForce {
         }
     }
 
-    /// True when every parameter is a finite number and coefficients are not negative
-    /// (a negative drag would pump energy in).
+    /// True when `validate` accepts the force.
     pub fn is_valid(&self) -> bool {
+        self.validate().is_ok()
+    }
+
+    /// Every parameter finite and within its limit: |g| ≤ `MAX_GRAVITY`, |w| ≤
+    /// `MAX_WIND_SPEED`, coefficients in [0, `MAX_DRAG_COEFFICIENT`] (a negative drag would
+    /// pump energy in). Scenes, snapshots and recordings are checked with it.
+    pub fn validate(&self) -> Result<(), ForceError> {
         match *self {
-            EnvironmentForce::Gravity { acceleration } => acceleration.is_finite(),
-            EnvironmentForce::LinearDrag { coefficient }
-            | EnvironmentForce::QuadraticDrag { coefficient } => {
-                coefficient.is_finite() && coefficient >= 0.0
+            EnvironmentForce::Gravity { acceleration } => {
+                at_most("acceleration", acceleration.length(), MAX_GRAVITY, " m/s²")
             }
+            EnvironmentForce::LinearDrag { coefficient }
+            | EnvironmentForce::QuadraticDrag { coefficient } => drag_coefficient(coefficient),
             EnvironmentForce::Wind {
                 velocity,
                 coefficient,
-            } => velocity.is_finite() && coefficient.is_finite() && coefficient >= 0.0,
+            } => {
+                at_most("velocity", velocity.length(), MAX_WIND_SPEED, " m/s")?;
+                drag_coefficient(coefficient)
+            }
         }
+    }
+}
+
+/// Largest gravity a world takes, m/s² (about 1 000 g): at 1e12 m/s² bodies cross a metre
+/// in a substep and tunnel, and at 1e308 the momenta overflow.
+pub const MAX_GRAVITY: f64 = 1e4;
+
+/// Largest wind speed, m/s: thirty times the speed of sound, far beyond any weather; 1e300
+/// made momenta overflow.
+pub const MAX_WIND_SPEED: f64 = 1e4;
+
+/// Largest drag or wind coefficient, in N·s/m (N·s²/m² for quadratic drag); 1e9 ended in
+/// NaN on bodies of a kilogram. Drag is applied explicitly, so it is stable only while
+/// k·h/m < 2 (h the substep, m the body's mass): below the limit a body light enough still
+/// diverges, and is then isolated and reported as any non-finite body.
+pub const MAX_DRAG_COEFFICIENT: f64 = 1e6;
+
+/// Why `EnvironmentForce::validate` refused a force: the field as the force spells it.
+#[derive(Debug, thiserror::Error, PartialEq)]
+#[error("{field} {reason}")]
+pub struct ForceError {
+    /// `acceleration`, `velocity` or `coefficient`.
+    pub field: &'static str,
+    /// What is wrong, with the value found.
+    pub reason: String,
+}
+
+/// A magnitude that is finite and at most `limit`.
+fn at_most(field: &'static str, value: f64, limit: f64, unit: &str) -> Result<(), ForceError> {
+    if value.is_finite() && value <= limit {
+        return Ok(());
+    }
+    let reason = format!("must be finite and at most {limit:e}{unit} in magnitude, got {value:e}");
+    Err(ForceError { field, reason })
+}
+
+fn drag_coefficient(coefficient: f64) -> Result<(), ForceError> {
+    if coefficient >= 0.0 {
+        at_most("coefficient", coefficient, MAX_DRAG_COEFFICIENT, "")
+    } else {
+        let reason = format!("must be finite and not negative, got {coefficient}");
+        Err(ForceError {
+            field: "coefficient",
+            reason,
+        })
     }
 }
 

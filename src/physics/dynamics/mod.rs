@@ -3,7 +3,9 @@
 
 pub(crate) mod awake_set;
 pub mod body;
+pub(crate) mod containment;
 pub mod forces;
 pub mod integrate;
 pub(crate) mod islands;
+pub(crate) mod slots;
 pub(crate) mod union_find;

@@ -224,10 +224,10 @@ pub struct JointId(pub u32);
 /// Why `World::add_joint` or `World::remove_joint` refused; the world is left as it was.
 #[derive(Debug, Error, PartialEq)]
 pub enum JointError {
-    /// No body has this id.
+    /// No body has this id (or it names a removed body).
     #[error("there is no body {0}")]
     NoSuchBody(u32),
-    /// The body was removed, or isolated for going non-finite.
+    /// The body was isolated for going non-finite.
     #[error("body {0} no longer takes part in the simulation")]
     BodyGone(u32),
     /// Both ends name the same body.

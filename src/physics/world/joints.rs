@@ -12,9 +12,11 @@ use crate::physics::joints::joint::Joint;
 /// What the joints tie together, derived from the joint list whenever it changes.
 #[derive(Clone, Debug, Default)]
 pub(super) struct JointLinks {
-    /// The bodies of each joint, for the islands: joined bodies sleep and wake together.
+    /// The slots of each joint's bodies, for the islands: joined bodies sleep and wake
+    /// together.
     links: Vec<(u32, u32)>,
-    /// Pairs of joined bodies that do not collide (`JointDesc::collide_connected` off).
+    /// Slots of joined bodies that do not collide (`JointDesc::collide_connected` off), lower
+    /// first.
     unjoined: HashSet<(u32, u32)>,
 }
 
@@ -22,7 +24,7 @@ impl JointLinks {
     pub(super) fn of(joints: &[Option<Joint>]) -> JointLinks {
         let mut links = JointLinks::default();
         for joint in joints.iter().flatten() {
-            let (a, b) = (joint.body_a.0, joint.body_b.0);
+            let (a, b) = (joint.body_a.index() as u32, joint.body_b.index() as u32);
             links.links.push((a, b));
             if !joint.collide_connected {
                 links.unjoined.insert((a.min(b), a.max(b)));
@@ -38,7 +40,8 @@ impl JointLinks {
     /// Takes out of the broad phase's pairs those of joined bodies that do not collide.
     pub(super) fn drop_unjoined_pairs(&self, pairs: &mut Vec<BodyPair>) {
         if !self.unjoined.is_empty() {
-            pairs.retain(|p| !self.unjoined.contains(&(p.a.0, p.b.0)));
+            let slots = |p: &BodyPair| (p.a.index() as u32, p.b.index() as u32);
+            pairs.retain(|p| !self.unjoined.contains(&slots(p)));
         }
     }
 }
@@ -51,7 +54,7 @@ impl World {
     pub fn add_joint(&mut self, desc: JointDesc) -> Result<JointId, JointError> {
         desc.validate()?;
         for id in [desc.body_a, desc.body_b] {
-            match self.bodies.get(id.index()) {
+            match self.get_body(id) {
                 None => return Err(JointError::NoSuchBody(id.0)),
                 Some(body) if !body.motion.takes_part() => {
                     return Err(JointError::BodyGone(id.0));

@@ -9,10 +9,10 @@ use crate::physics::dynamics::body::{BodyError, BodyId, Motion, RigidBody};
 /// Why a change of a body's motion was refused; the world is left as it was.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MotionError {
-    /// No body has this id.
+    /// No body has this id (or it names a removed body).
     #[error("there is no body {0}")]
     NoSuchBody(u32),
-    /// The body was removed, or isolated for going non-finite.
+    /// The body was isolated for going non-finite.
     #[error("body {0} no longer takes part in the simulation")]
     BodyGone(u32),
     /// A kinematic velocity or target for a body that is not kinematic.
@@ -101,7 +101,7 @@ impl World {
 
     /// The body `id` if it takes part, woken and looked at again by the next step.
     fn moving_part_mut(&mut self, id: BodyId) -> Result<&mut RigidBody, MotionError> {
-        match self.bodies.get(id.index()).map(|b| b.motion) {
+        match self.get_body(id).map(|b| b.motion) {
             None => return Err(MotionError::NoSuchBody(id.0)),
             Some(motion) if !motion.takes_part() => return Err(MotionError::BodyGone(id.0)),
             Some(_) => {}
