@@ -516,3 +516,22 @@ fn joined_bodies_collide_only_when_asked() {
     assert_eq!(contacts_after(false), 0);
     assert_eq!(contacts_after(true), 1);
 }
+
+/// Ids are generational: once a removed body's slot holds a new body, the old id names
+/// nothing a joint could hold, and the new body joins as itself.
+#[test]
+fn a_stale_id_cannot_be_joined() {
+    let mut world = world();
+    let pivot = fixed_point(&mut world, DVec3::ZERO);
+    let old = ball(&mut world, DVec3::X, 0.1, 1.0);
+    world.remove_body(old).unwrap();
+    let new = ball(&mut world, DVec3::X, 0.1, 1.0);
+    assert_eq!(new.index(), old.index(), "the slot is reused");
+    let joint = |id| JointDesc::ball(pivot, id, DVec3::ZERO);
+    assert_eq!(
+        world.add_joint(joint(old)),
+        Err(JointError::NoSuchBody(old.0))
+    );
+    let id = world.add_joint(joint(new)).unwrap();
+    assert_eq!(world.joint(id).unwrap().body_b, new);
+}
