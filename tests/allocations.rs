@@ -1,6 +1,6 @@
 //! A step reuses the memory of the steps before it: once a scene's lists (pairs, manifolds,
-//! contacts, solver slots, colours, prepared joints) have grown to the most it needs, stepping allocates
-//! nothing, on one thread or several. Allocations are counted by this binary's global
+//! contacts, solver slots, colours, prepared joints) have grown to the most it needs,
+//! stepping allocates nothing, on one thread or several. Allocations are counted by this binary's global
 //! allocator, on every thread, so the narrow phase's worker threads count too. The binary
 //! holds one test, so that no other test allocates while it counts.
 //!
