@@ -37,7 +37,8 @@ pub mod prelude {
 
     pub use crate::physics::{
         AddBodyError, BodyDesc, BodyId, BroadPhaseKind, CastHit, ClassicSettings, EnvironmentForce,
-        Integrator, MainLoop, Material, Motion, Pipeline, RigidBody, STANDARD_GRAVITY, Shape,
-        SleepSettings, SoftSolverSettings, StepError, World, WorldSettings,
+        Integrator, JointDesc, JointError, JointId, MainLoop, Material, Motion, Pipeline,
+        RigidBody, STANDARD_GRAVITY, Shape, SleepSettings, SoftSolverSettings, StepError, World,
+        WorldSettings,
     };
 }

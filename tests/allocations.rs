@@ -1,6 +1,6 @@
 //! A step reuses the memory of the steps before it: once a scene's lists (pairs, manifolds,
-//! contacts, solver slots, colours) have grown to the most it needs, stepping allocates
-//! nothing, on one thread or several. Allocations are counted by this binary's global
+//! contacts, solver slots, colours, prepared joints) have grown to the most it needs,
+//! stepping allocates nothing, on one thread or several. Allocations are counted by this binary's global
 //! allocator, on every thread, so the narrow phase's worker threads count too. The binary
 //! holds one test, so that no other test allocates while it counts.
 //!
@@ -12,8 +12,9 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
+use glam::DVec3;
 use rayon::ThreadPoolBuilder;
-use rigid::physics::World;
+use rigid::physics::{BodyDesc, EnvironmentForce, JointDesc, Shape, World};
 use rigid::scene;
 
 /// The system allocator, counting the allocations and reallocations made while `COUNTING`.
@@ -71,6 +72,38 @@ fn warmed_up(name: &str, sleeping: bool, warm_up: f64) -> (World, f64) {
     (world, dt)
 }
 
+/// A chain of 10 balls on ball joints from a fixed point, set swinging, beside a kinematic
+/// platform carrying a box, after 1 s.
+fn joints_and_a_platform() -> (World, f64) {
+    let mut world = World::default();
+    world.forces.push(EnvironmentForce::earth_gravity());
+    world.settings.sleep.enabled = false;
+    let mut previous = world
+        .add_body(BodyDesc::fixed(Shape::sphere(0.05)))
+        .unwrap();
+    for k in 1..=10 {
+        let at = DVec3::new(0.3 * k as f64, 0.0, 0.0);
+        let link = world.add_body(BodyDesc::dynamic(Shape::sphere(0.1)).at(at));
+        let link = link.unwrap();
+        let anchor = at - DVec3::X * 0.15;
+        world
+            .add_joint(JointDesc::ball(previous, link, anchor))
+            .unwrap();
+        previous = link;
+    }
+    let platform = BodyDesc::kinematic(Shape::cuboid(DVec3::new(2.0, 0.1, 2.0)))
+        .at(DVec3::new(0.0, -5.0, 0.0))
+        .with_velocity(DVec3::X * 0.5);
+    world.add_body(platform).unwrap();
+    let crate_ = BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.2))).at(DVec3::new(0.0, -4.7, 0.0));
+    world.add_body(crate_).unwrap();
+    let dt = 1.0 / 60.0;
+    for _ in 0..60 {
+        world.step(dt);
+    }
+    (world, dt)
+}
+
 #[test]
 fn steps_after_the_lists_have_grown_allocate_nothing() {
     // The pyramid's 210 boxes kept awake: every stage runs on a full resting load, the
@@ -99,6 +132,15 @@ fn steps_after_the_lists_have_grown_allocate_nothing() {
             if allocations != 0 {
                 failures.push(case);
             }
+        }
+        let allocations = pool.install(|| {
+            let (mut world, dt) = joints_and_a_platform();
+            allocations_over(&mut world, dt, 60)
+        });
+        let case = format!("joints and a platform, {threads} threads: {allocations} allocations");
+        println!("{case}");
+        if allocations != 0 {
+            failures.push(case);
         }
     }
     assert!(failures.is_empty(), "{failures:?}");

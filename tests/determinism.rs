@@ -305,3 +305,32 @@ fn the_parallel_contact_solve_does_not_change_a_bit() {
         assert!(other == single, "{threads} threads differ");
     }
 }
+
+/// The same pile with 100 of its bodies joined in pairs by rods: the joints are solved in
+/// order before the coloured contacts, so the threads still change no bit.
+#[test]
+fn joints_in_a_parallel_solve_do_not_change_a_bit() {
+    let state = |threads: usize| {
+        on_threads(threads, || {
+            let mut world = rigid::scene::rain_world(1000, Default::default());
+            let dynamic: Vec<usize> = (0..world.bodies().len())
+                .filter(|&i| world.bodies()[i].is_dynamic())
+                .take(200)
+                .collect();
+            for pair in dynamic.chunks(2) {
+                let (a, b) = (world.id_at(pair[0]).unwrap(), world.id_at(pair[1]).unwrap());
+                let (pa, pb) = (world.body(a).position, world.body(b).position);
+                let rod = rigid::physics::JointDesc::distance(a, b, pa, pb);
+                world.add_joint(rod).unwrap();
+            }
+            for _ in 0..120 {
+                world.step(1.0 / 60.0);
+            }
+            world.to_snapshot().to_ron()
+        })
+    };
+    let single = state(1);
+    for threads in [2, 4] {
+        assert!(state(threads) == single, "{threads} threads differ");
+    }
+}

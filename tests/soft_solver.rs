@@ -148,7 +148,15 @@ impl Sim {
         let awake: Vec<u32> = (0..self.bodies.len() as u32)
             .filter(|&i| self.bodies[i as usize].is_awake())
             .collect();
-        soft::step(&mut self.bodies, &awake, &contacts, &ctx, &mut self.scratch);
+        let joints = &mut [];
+        soft::step(
+            &mut self.bodies,
+            &awake,
+            &contacts,
+            joints,
+            &ctx,
+            &mut self.scratch,
+        );
         self.warm = keys.into_iter().zip(self.scratch.impulses()).collect();
     }
 }

@@ -5,6 +5,7 @@
 //! - [`geometry`]: shapes and what can be asked of one shape (bounds, mass, GJK, EPA, casts);
 //! - [`collision`]: the broad phase, the narrow phase and contact manifolds;
 //! - [`dynamics`]: bodies, forces, integration, islands and sleep;
+//! - [`joints`]: ball, hinge, slider, fixed and distance joints, solved with the contacts;
 //! - [`solver`]: the `soft` and `classic` contact solvers;
 //! - [`world`]: the step itself and the public entry points, with [`query`] (ray and shape
 //!   casts) and [`snapshot`] (save and restore).
@@ -14,6 +15,7 @@
 pub mod collision;
 pub mod dynamics;
 pub mod geometry;
+pub mod joints;
 pub mod query;
 pub mod snapshot;
 pub mod solver;
@@ -41,6 +43,7 @@ pub use geometry::hull::{
 };
 pub use geometry::mass::MassProperties;
 pub use geometry::shape::{Pose, Shape, ShapeError};
+pub use joints::{Joint, JointDesc, JointError, JointId, JointKind, Motor, Spring};
 pub use query::{CastHit, QueryError, ray_cast, shape_cast};
 pub use snapshot::{SnapshotError, WorldSnapshot};
 pub use solver::classic::{ClassicReport, ClassicSettings, MainLoop};
@@ -50,6 +53,6 @@ pub use solver::toi::{
 };
 pub use stage_times::StageTimes;
 pub use world::{
-    AddBodyError, DEFAULT_MAX_PAIRS, Fault, FaultReason, MAX_BODIES, MAX_STEP, PairBudgetFault,
-    Pipeline, RemoveError, StepError, World, WorldSettings, WorldTotals,
+    AddBodyError, DEFAULT_MAX_PAIRS, Fault, FaultReason, MAX_BODIES, MAX_STEP, MotionError,
+    PairBudgetFault, Pipeline, RemoveError, StepError, World, WorldSettings, WorldTotals,
 };

@@ -11,7 +11,7 @@
 
 use std::path::Path;
 
-use glam::DMat3;
+use glam::{DMat3, DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -20,6 +20,7 @@ use crate::physics::collision::contact_cache::ContactCache;
 use crate::physics::collision::manifold_memory::ManifoldMemory;
 use crate::physics::dynamics::body::{BodyId, Motion, RigidBody};
 use crate::physics::dynamics::forces::EnvironmentForce;
+use crate::physics::joints::joint::Joint;
 use crate::physics::world::{Fault, MAX_BODIES, WorldSettings};
 
 /// Raised when the layout of `WorldSnapshot` changes.
@@ -55,6 +56,10 @@ pub struct WorldSnapshot {
     pub awake: usize,
     /// Bodies isolated so far (`World::faults`).
     pub faults: Vec<Fault>,
+    /// The joints by id, None where one was removed (absent in snapshots from before
+    /// joints: none).
+    #[serde(default)]
+    pub joints: Vec<Option<Joint>>,
     /// Per body slot, the generation of its id (see `BodyId`); empty in snapshots written
     /// before ids had generations.
     #[serde(default)]
@@ -211,12 +216,41 @@ impl WorldSnapshot {
         if !self.time.is_finite() {
             return Err(inconsistent("time is not finite".into()));
         }
+        self.check_joints().map_err(inconsistent)?;
         check_settings(&self.settings).map_err(|m| inconsistent(format!("settings: {m}")))?;
         // The loader of scenes refuses the same: a negative drag pumps energy in.
         for (index, force) in self.forces.iter().enumerate() {
             force
                 .validate()
                 .map_err(|e| inconsistent(format!("forces[{index}].{e}")))?;
+        }
+        Ok(())
+    }
+}
+
+impl WorldSnapshot {
+    /// Each joint joins two different bodies that take part (both may have been made static
+    /// since: the solver leaves such a joint alone), with numbers a joint can have
+    /// (`Joint::check`).
+    fn check_joints(&self) -> Result<(), String> {
+        for (index, joint) in self.joints.iter().enumerate() {
+            let Some(joint) = joint else { continue };
+            // Current: the generation of its slot (0 in a snapshot without generations).
+            let current = |id: BodyId| {
+                let generation = self.generations.get(id.index()).copied().unwrap_or(0);
+                id.generation() == generation
+            };
+            let body = |id: BodyId| {
+                (self.bodies.get(id.index())).filter(|b| current(id) && b.motion.takes_part())
+            };
+            if body(joint.body_a).is_none() || body(joint.body_b).is_none() {
+                return Err(format!("joints[{index}] names a missing or removed body"));
+            }
+            if joint.body_a == joint.body_b {
+                let id = joint.body_a.0;
+                return Err(format!("joints[{index}] joins body {id} to itself"));
+            }
+            joint.check().map_err(|m| format!("joints[{index}]: {m}"))?;
         }
         Ok(())
     }
@@ -270,6 +304,7 @@ fn check_settings(settings: &WorldSettings) -> Result<(), String> {
     };
     let positive = [
         ("solver.contact_hertz", soft.contact_hertz),
+        ("solver.joint_hertz", soft.joint_hertz),
         ("classic.theta", classic.theta),
         ("broad_phase.cell_size", cell_size),
     ];
@@ -280,6 +315,7 @@ fn check_settings(settings: &WorldSettings) -> Result<(), String> {
     }
     let non_negative = [
         ("solver.damping_ratio", soft.damping_ratio),
+        ("solver.joint_damping_ratio", soft.joint_damping_ratio),
         ("solver.max_push_out", soft.max_push_out),
         ("solver.restitution_threshold", soft.restitution_threshold),
         ("classic.resting_speed", classic.resting_speed),
@@ -350,20 +386,52 @@ fn check_body(body: &RigidBody) -> Result<(), (&'static str, String)> {
     check_mass_properties(body)
 }
 
+/// A kinematic body's velocities and target are finite (a unit rotation); any other body has
+/// none.
+fn check_kinematic_state(body: &RigidBody) -> Result<(), (&'static str, String)> {
+    let target = body.kinematic_target;
+    if body.is_kinematic() {
+        if !(body.kinematic_velocity.is_finite() && body.kinematic_spin.is_finite()) {
+            return Err(("kinematic_velocity", "must be finite".into()));
+        }
+        let unit = |q: DQuat| q.is_finite() && (q.length() - 1.0).abs() < 1e-9;
+        if target.is_some_and(|(p, q)| !p.is_finite() || !unit(q)) {
+            let message = "must be a finite position and a unit rotation".into();
+            return Err(("kinematic_target", message));
+        }
+    } else if body.kinematic_velocity != DVec3::ZERO
+        || body.kinematic_spin != DVec3::ZERO
+        || target.is_some()
+    {
+        return Err(("kinematic_velocity", "only a kinematic body has one".into()));
+    }
+    Ok(())
+}
+
 /// A dynamic body has a positive inverse mass and a symmetric positive definite inverse
 /// inertia; a static one has neither (as `RigidBody::from_desc` makes them). Either way the
 /// world inverse inertia must be R I⁻¹ Rᵀ, which the solvers read without recomputing.
 fn check_mass_properties(body: &RigidBody) -> Result<(), (&'static str, String)> {
     let local = body.inv_inertia_local;
-    if body.motion == Motion::Static {
+    check_kinematic_state(body)?;
+    if matches!(body.motion, Motion::Static | Motion::Kinematic) {
+        let kind = if body.is_kinematic() {
+            "kinematic"
+        } else {
+            "static"
+        };
         if body.inv_mass != 0.0 {
-            return Err((
-                "inv_mass",
-                format!("must be 0 on a static body, got {}", body.inv_mass),
-            ));
+            let message = format!("must be 0 on a {kind} body, got {}", body.inv_mass);
+            return Err(("inv_mass", message));
         }
         if local != DMat3::ZERO || body.inv_inertia_world != DMat3::ZERO {
-            return Err(("inv_inertia_local", "must be zero on a static body".into()));
+            return Err((
+                "inv_inertia_local",
+                format!("must be zero on a {kind} body"),
+            ));
+        }
+        if body.linear_momentum != DVec3::ZERO || body.angular_momentum != DVec3::ZERO {
+            return Err(("linear_momentum", format!("must be zero on a {kind} body")));
         }
         return Ok(());
     }

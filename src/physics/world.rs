@@ -35,6 +35,7 @@ use crate::physics::dynamics::integrate::{self, Integrator};
 use crate::physics::dynamics::islands::{self, IslandScratch, SleepSettings};
 use crate::physics::dynamics::slots::Slots;
 use crate::physics::geometry::aabb::Aabb;
+use crate::physics::joints::joint::Joint;
 use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
 use crate::physics::solver::classic::{self, ClassicContext, ClassicReport, ClassicSettings};
 use crate::physics::solver::soft::{
@@ -104,7 +105,10 @@ pub enum Pipeline {
 /// [`BodyId`]; an id stays valid until `remove_body` takes its body out, after which it is
 /// refused (`get_body` answers None) even once a new body has taken the slot. Read
 /// bodies with `body` and `bodies`, change them through `body_mut` (the next step looks at
-/// a changed body again).
+/// a changed body again). Joints come from a [`JointDesc`](crate::physics::JointDesc)
+/// through `add_joint`; kinematic bodies move by `set_kinematic_velocity` or
+/// `set_kinematic_target`, and `set_motion` switches a body between dynamic, kinematic and
+/// static.
 ///
 /// Each `step(dt)`, dt in s, runs the broad phase, the narrow phase, islands and sleep, then
 /// the chosen contact pipeline (`Pipeline`) with the forces and integration; a negative dt
@@ -160,7 +164,16 @@ pub struct World {
     faults: Vec<Fault>,
     /// The last step that went over `settings.max_pairs`, if any did.
     pair_budget_fault: Option<PairBudgetFault>,
+    /// By `JointId`; None where a joint was removed.
+    joints: Vec<Option<Joint>>,
+    /// What the joints tie together, derived from `joints` (see `joints::JointLinks`).
+    joint_links: JointLinks,
 }
+
+mod joints;
+mod kinematic;
+use joints::JointLinks;
+pub use kinematic::MotionError;
 
 impl Default for World {
     fn default() -> Self {
@@ -206,6 +219,17 @@ pub enum StepError {
     /// The `dt` given, s, is not finite or is longer than `MAX_STEP` either way.
     #[error("dt must be finite and at most {MAX_STEP} s either way, got {0}")]
     BadDt(f64),
+    /// The classic pipeline has no joints: a world holding any steps with `Pipeline::Soft`.
+    #[error("the classic pipeline does not solve joints; this world holds {0}")]
+    JointsNeedSoft(usize),
+    /// The classic pipeline has no kinematic bodies: a world holding any steps with
+    /// `Pipeline::Soft`.
+    #[error("the classic pipeline does not move kinematic bodies; this world holds {0}")]
+    KinematicNeedsSoft(usize),
+    /// A negative dt runs bodies backwards without contacts or joints: a world holding
+    /// joints is not run backwards.
+    #[error("a world with joints is not run backwards; this one holds {0}")]
+    JointsNotBackwards(usize),
 }
 
 /// A body whose state stopped being finite, and when. The body is isolated the same step.
@@ -310,6 +334,8 @@ impl World {
             steps: 0,
             faults: Vec::new(),
             pair_budget_fault: None,
+            joints: Vec::new(),
+            joint_links: JointLinks::default(),
         }
     }
 
@@ -329,6 +355,7 @@ impl World {
             manifold_memory: self.manifold_memory.clone(),
             awake: self.awake,
             faults: self.faults.clone(),
+            joints: self.joints.clone(),
             generations: self.slots.generations().to_vec(),
         }
     }
@@ -350,6 +377,8 @@ impl World {
             time: snapshot.time,
             steps: snapshot.steps,
             faults: snapshot.faults,
+            joint_links: JointLinks::of(&snapshot.joints),
+            joints: snapshot.joints,
             ..World::new(snapshot.settings)
         })
     }
@@ -378,7 +407,8 @@ impl World {
 
     /// Takes a body out: it no longer moves, feels forces or touches anything, and every
     /// sleeping body whose broad-phase box touched its box wakes up, so that what rested on
-    /// it falls. Its id is refused from then on, and its slot goes to a later body.
+    /// it falls. Its joints are removed with it. Its id is refused from then on, and its
+    /// slot goes to a later body.
     pub fn remove_body(&mut self, id: BodyId) -> Result<(), RemoveError> {
         let index = id.index();
         match self.bodies.get(index).map(|b| b.motion) {
@@ -392,6 +422,7 @@ impl World {
         }
         self.slots.release(index);
         self.wake_neighbours(index);
+        self.remove_joints_of(index);
         let body = &mut self.bodies[index];
         body.motion = Motion::Removed;
         body.sleeping = false;
@@ -480,17 +511,33 @@ impl World {
         self.steps
     }
 
-    /// Advances the world by `dt` seconds; a negative `dt` runs it backwards. A `dt` that
-    /// `try_step` refuses leaves the world as it is.
+    /// Advances the world by `dt` seconds; a negative `dt` runs it backwards. A step that
+    /// `try_step` refuses (a bad `dt`; joints on the classic pipeline or backwards) leaves
+    /// the world as it is.
     pub fn step(&mut self, dt: f64) {
         let _ = self.try_step(dt);
     }
 
     /// `step`, or an error for a `dt` that is not finite or longer than `MAX_STEP` either way
-    /// (one NaN step would otherwise isolate every body).
+    /// (one NaN step would otherwise isolate every body), and for a world with joints or
+    /// kinematic bodies on the classic pipeline, which would otherwise move its bodies as if
+    /// they were not joined, or leave kinematic bodies in place.
     pub fn try_step(&mut self, dt: f64) -> Result<(), StepError> {
         if !(dt.is_finite() && dt.abs() <= MAX_STEP) {
             return Err(StepError::BadDt(dt));
+        }
+        let joints = self.joint_count();
+        if joints > 0 && self.settings.pipeline == Pipeline::Classic {
+            return Err(StepError::JointsNeedSoft(joints));
+        }
+        if joints > 0 && dt < 0.0 {
+            return Err(StepError::JointsNotBackwards(joints));
+        }
+        if self.settings.pipeline == Pipeline::Classic {
+            let kinematic = self.bodies.iter().filter(|b| b.is_kinematic()).count();
+            if kinematic > 0 {
+                return Err(StepError::KinematicNeedsSoft(kinematic));
+            }
         }
         self.advance(dt);
         Ok(())
@@ -504,6 +551,8 @@ impl World {
         // A non-finite user force or state is caught before any contact can spread it.
         timed(on, &mut times.checks, || self.isolate_non_finite(&touched));
         if dt >= 0.0 {
+            // Before the broad phase: the margins must see the velocities a target sets.
+            self.aim_kinematic_targets(dt);
             timed(on, &mut times.broad_phase, || {
                 self.wake_on_user_input(&touched);
                 self.broad_phase(dt, &touched);
@@ -517,6 +566,7 @@ impl World {
             timed(on, &mut times.islands, || self.islands_and_sleep());
             let mut solve_and_integrate = 0.0;
             times.integrate = timed(on, &mut solve_and_integrate, || self.solve(dt));
+            self.arrive_at_kinematic_targets(dt);
             times.solve = (solve_and_integrate - times.integrate).max(0.0);
             timed(on, &mut times.islands, || self.add_quiet_time(dt));
         } else {
@@ -611,7 +661,15 @@ impl World {
             let awake = self.awake_set.awake(&self.bodies);
             let sleep = &self.settings.sleep;
             let scratch = &mut self.island_scratch;
-            if islands::update(&mut self.bodies, awake, &self.manifolds, sleep, scratch) {
+            let links = self.joint_links.links();
+            if islands::update(
+                &mut self.bodies,
+                awake,
+                &self.manifolds,
+                links,
+                sleep,
+                scratch,
+            ) {
                 self.awake_set.invalidate();
             }
         }
@@ -719,7 +777,9 @@ impl World {
         let awake = self.awake_set.awake(&self.bodies);
         let limit = self.settings.max_pairs;
         let (proxies, pairs) = (&self.proxies, &mut self.pairs);
-        if (self.broad_phase).fill_pairs_within(proxies, awake, idle_changed, pairs, limit) {
+        let over = (self.broad_phase).fill_pairs_within(proxies, awake, idle_changed, pairs, limit);
+        self.joint_links.drop_unjoined_pairs(&mut self.pairs);
+        if over {
             let steps_over = self.pair_budget_fault.as_ref().map_or(0, |f| f.steps_over);
             self.pair_budget_fault = Some(PairBudgetFault {
                 step: self.steps,
@@ -748,6 +808,7 @@ impl World {
             &mut self.bodies,
             awake,
             &inputs,
+            &mut self.joints,
             &ctx,
             &mut self.soft_scratch,
         );

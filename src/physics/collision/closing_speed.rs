@@ -111,14 +111,14 @@ impl Clusters {
         self.sets.reset(self.members.len());
         for pair in pairs {
             let [a, b] = [pair.a.index(), pair.b.index()];
-            if bodies[a].is_dynamic() && bodies[b].is_dynamic() {
+            if bodies[a].motion.moves() && bodies[b].motion.moves() {
                 self.sets.union(self.place(a), self.place(b));
             }
         }
         self.gather_velocities(bodies, pairs);
         self.spread.clear();
         for (k, &index) in self.members.iter().enumerate() {
-            let spread = if bodies[index as usize].is_dynamic() {
+            let spread = if bodies[index as usize].motion.moves() {
                 let [low, high] = self.velocities[self.sets.find(k)];
                 (high - low).length()
             } else {
@@ -174,13 +174,13 @@ impl Clusters {
         self.velocities.resize(self.members.len(), empty);
         for k in 0..self.members.len() {
             let body = &bodies[self.members[k] as usize];
-            if body.is_dynamic() {
+            if body.motion.moves() {
                 self.widen(k, body.velocity());
             }
         }
         for pair in pairs {
             let [a, b] = [pair.a.index(), pair.b.index()];
-            match (bodies[a].is_dynamic(), bodies[b].is_dynamic()) {
+            match (bodies[a].motion.moves(), bodies[b].motion.moves()) {
                 (true, false) => self.widen(self.place(a), DVec3::ZERO),
                 (false, true) => self.widen(self.place(b), DVec3::ZERO),
                 _ => {}

@@ -44,7 +44,7 @@ const EMPTY_PROXY: Proxy = Proxy {
 pub fn proxy_of(body: &RigidBody, dt: f64) -> Proxy {
     match body.motion {
         Motion::Isolated | Motion::Removed => EMPTY_PROXY,
-        Motion::Dynamic | Motion::Static => Proxy {
+        Motion::Dynamic | Motion::Kinematic | Motion::Static => Proxy {
             active: body.is_awake(),
             ..Proxy::of_body(body, 0.5 * SPECULATIVE_DISTANCE + motion_bound(body, dt))
         },

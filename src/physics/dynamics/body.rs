@@ -91,6 +91,10 @@ pub enum Motion {
     Dynamic,
     /// Never moves: inverse mass and inverse inertia are zero, as in the report.
     Static,
+    /// Moved by its own velocity (`World::set_kinematic_velocity`) or toward a target pose
+    /// (`World::set_kinematic_target`), never by forces or contacts: infinite mass (inverse
+    /// mass and inertia zero) for everything it touches, which it carries and pushes.
+    Kinematic,
     /// Taken out of the simulation after its state went non-finite; kept for inspection.
     /// Feels no force, moves no more and touches nothing.
     Isolated,
@@ -100,9 +104,14 @@ pub enum Motion {
 }
 
 impl Motion {
-    /// Dynamic or static: a body the simulation still moves or collides with.
+    /// Dynamic, kinematic or static: a body the simulation still moves or collides with.
     pub fn takes_part(self) -> bool {
-        matches!(self, Motion::Dynamic | Motion::Static)
+        matches!(self, Motion::Dynamic | Motion::Kinematic | Motion::Static)
+    }
+
+    /// Dynamic or kinematic: a body that a step may move.
+    pub fn moves(self) -> bool {
+        matches!(self, Motion::Dynamic | Motion::Kinematic)
     }
 }
 
@@ -157,6 +166,20 @@ pub struct RigidBody {
     pub sleeping: bool,
     /// How long the body has been quiet enough to sleep, s.
     pub quiet_time: f64,
+    /// A kinematic body's velocity, world, m/s (its momenta stay zero: infinite mass).
+    #[serde(default)]
+    pub kinematic_velocity: DVec3,
+    /// A kinematic body's angular velocity, world, rad/s.
+    #[serde(default)]
+    pub kinematic_spin: DVec3,
+    /// The pose a kinematic body reaches at the end of the next step (position of its
+    /// shape's origin, rotation), set by `World::set_kinematic_target`.
+    #[serde(default)]
+    pub kinematic_target: Option<(DVec3, DQuat)>,
+    /// `BodyDesc::mass`, kept so that a body switched back to dynamic gets the mass it was
+    /// made with.
+    #[serde(default)]
+    pub mass_override: Option<f64>,
 }
 
 /// Everything needed to create a body (`World::add_body`), built from `dynamic` or `fixed`
@@ -169,7 +192,8 @@ pub struct BodyDesc {
     pub shape: Shape,
     /// Density, restitution and friction.
     pub material: Material,
-    /// `Dynamic` or `Static` (the other kinds are states a world puts bodies in).
+    /// `Dynamic`, `Kinematic` or `Static` (the other kinds are states a world puts bodies
+    /// in).
     pub motion: Motion,
     /// Overrides the mass from density, kg, while keeping the shape's mass distribution.
     pub mass: Option<f64>,
@@ -177,9 +201,11 @@ pub struct BodyDesc {
     pub position: DVec3,
     /// Orientation of the shape's frame; normalised on creation, must not be zero.
     pub rotation: DQuat,
-    /// Initial velocity of the centre of mass, world, m/s; ignored for static bodies.
+    /// Initial velocity of the centre of mass, world, m/s (a kinematic body keeps it);
+    /// ignored for static bodies.
     pub velocity: DVec3,
-    /// Initial angular velocity, world, rad/s; ignored for static bodies.
+    /// Initial angular velocity, world, rad/s (a kinematic body keeps it); ignored for
+    /// static bodies.
     pub angular_velocity: DVec3,
 }
 
@@ -276,6 +302,16 @@ impl BodyDesc {
     pub fn fixed(shape: Shape) -> Self {
         BodyDesc {
             motion: Motion::Static,
+            ..BodyDesc::dynamic(shape)
+        }
+    }
+
+    /// As `dynamic`, but kinematic: moved by its velocity (`with_velocity`,
+    /// `with_angular_velocity`, `World::set_kinematic_velocity`) or a target pose, never by
+    /// forces or contacts.
+    pub fn kinematic(shape: Shape) -> Self {
+        BodyDesc {
+            motion: Motion::Kinematic,
             ..BodyDesc::dynamic(shape)
         }
     }
@@ -447,6 +483,29 @@ fn check_range(
     Ok(())
 }
 
+/// 1/m and I⁻¹ of a dynamic body, or why they cannot be inverted (`field` is where the
+/// mass came from: `mass` when given, else `material.density`).
+fn dynamic_inverses(
+    props: &MassProperties,
+    body: &str,
+    mass_given: bool,
+) -> Result<(f64, DMat3), BodyError> {
+    let (inv_mass, inv_inertia) = (1.0 / props.mass, props.inertia.inverse());
+    let invertible = inv_mass.is_finite() && inv_inertia.is_finite();
+    if !(invertible && props.inertia.is_finite()) {
+        return Err(BodyError::MassNotInvertible {
+            body: body.to_string(),
+            field: if mass_given {
+                "mass"
+            } else {
+                "material.density"
+            },
+            mass: props.mass,
+        });
+    }
+    Ok((inv_mass, inv_inertia))
+}
+
 /// k·I: the same inertia about every axis.
 #[inline(always)]
 pub fn is_isotropic(m: DMat3) -> bool {
@@ -466,21 +525,11 @@ impl RigidBody {
         let orientation = DMat3::from_quat(desc.rotation.normalize());
         let position = desc.position + orientation * props.center;
         let (inv_mass, inv_inertia_local) = match desc.motion {
-            Motion::Dynamic => (1.0 / props.mass, props.inertia.inverse()),
-            Motion::Static | Motion::Isolated | Motion::Removed => (0.0, DMat3::ZERO),
+            Motion::Dynamic => dynamic_inverses(&props, &desc.name, desc.mass.is_some())?,
+            Motion::Kinematic | Motion::Static | Motion::Isolated | Motion::Removed => {
+                (0.0, DMat3::ZERO)
+            }
         };
-        let invertible = inv_mass.is_finite() && inv_inertia_local.is_finite();
-        if desc.motion == Motion::Dynamic && !(invertible && props.inertia.is_finite()) {
-            return Err(BodyError::MassNotInvertible {
-                body: desc.name.clone(),
-                field: if desc.mass.is_some() {
-                    "mass"
-                } else {
-                    "material.density"
-                },
-                mass: props.mass,
-            });
-        }
         let mut body = RigidBody {
             name: desc.name.clone(),
             shape: desc.shape.clone(),
@@ -498,11 +547,19 @@ impl RigidBody {
             torque: DVec3::ZERO,
             sleeping: false,
             quiet_time: 0.0,
+            kinematic_velocity: DVec3::ZERO,
+            kinematic_spin: DVec3::ZERO,
+            kinematic_target: None,
+            mass_override: desc.mass,
         };
         body.refresh_world_inertia();
         if body.is_dynamic() {
             body.linear_momentum = desc.velocity * props.mass;
             body.angular_momentum = body.inertia_world() * desc.angular_velocity;
+        }
+        if body.is_kinematic() {
+            body.kinematic_velocity = desc.velocity;
+            body.kinematic_spin = desc.angular_velocity;
         }
         // A finite speed times a huge mass can overflow, and so can ½ m v² when the momentum
         // does not: such a body would break the totals and any contact at once.
@@ -532,9 +589,24 @@ impl RigidBody {
         self.motion == Motion::Dynamic
     }
 
-    /// Dynamic and not asleep: the bodies a step moves.
+    /// Moved by its velocity or a target pose only (`Motion::Kinematic`).
+    pub fn is_kinematic(&self) -> bool {
+        self.motion == Motion::Kinematic
+    }
+
+    /// Dynamic or kinematic and not asleep: the bodies a step moves.
     pub fn is_awake(&self) -> bool {
-        self.is_dynamic() && !self.sleeping
+        self.motion.moves() && !self.sleeping
+    }
+
+    /// The mass properties a dynamic body of this shape, material and `mass_override` has.
+    pub(crate) fn dynamic_mass_properties(&self) -> Result<(f64, DMat3), BodyError> {
+        let density_props = MassProperties::of_shape(&self.shape, self.material.density);
+        let props = match self.mass_override {
+            Some(mass) => density_props.with_mass(mass),
+            None => density_props,
+        };
+        dynamic_inverses(&props, &self.name, self.mass_override.is_some())
     }
 
     /// Wakes the body and restarts its quiet time; the momenta are left as they are.
@@ -576,13 +648,19 @@ impl RigidBody {
         };
     }
 
-    /// v = L / m, world, m/s.
+    /// v = L / m, world, m/s (a kinematic body's own velocity).
     pub fn velocity(&self) -> DVec3 {
+        if self.is_kinematic() {
+            return self.kinematic_velocity;
+        }
         self.linear_momentum * self.inv_mass
     }
 
-    /// ω = I_world⁻¹ A, world, rad/s.
+    /// ω = I_world⁻¹ A, world, rad/s (a kinematic body's own angular velocity).
     pub fn angular_velocity(&self) -> DVec3 {
+        if self.is_kinematic() {
+            return self.kinematic_spin;
+        }
         self.inv_inertia_world * self.angular_momentum
     }
 

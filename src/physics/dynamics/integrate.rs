@@ -58,7 +58,7 @@ const SETTLED: f64 = 1e-30;
 
 /// Advances one body by `dt` (which may be negative) using its accumulated force and torque.
 pub fn integrate_body(body: &mut RigidBody, dt: f64, integrator: Integrator) {
-    if !body.is_dynamic() {
+    if !body.motion.moves() {
         return;
     }
     if dt >= 0.0 {
@@ -70,8 +70,11 @@ pub fn integrate_body(body: &mut RigidBody, dt: f64, integrator: Integrator) {
     }
 }
 
-/// L += F dt, A += τ dt
+/// L += F dt, A += τ dt (nothing for a kinematic body: no force moves it)
 pub fn integrate_momenta(body: &mut RigidBody, dt: f64) {
+    if body.is_kinematic() {
+        return;
+    }
     body.linear_momentum += body.force * dt;
     body.angular_momentum += body.torque * dt;
 }
@@ -84,6 +87,9 @@ pub fn integrate_momenta(body: &mut RigidBody, dt: f64) {
 /// updates markedly cheaper (BENCHMARKS.md, "Pose updates in the AVX2 step").
 #[inline(always)]
 pub fn integrate_pose(body: &mut RigidBody, dt: f64, integrator: Integrator) {
+    if body.is_kinematic() {
+        return move_kinematic(body, dt);
+    }
     body.position += body.linear_momentum * body.inv_mass * dt;
     let orientation = match integrator {
         Integrator::ReportEuler => {
@@ -95,6 +101,15 @@ pub fn integrate_pose(body: &mut RigidBody, dt: f64, integrator: Integrator) {
     if orientation != body.orientation {
         body.orientation = orientation;
         body.refresh_world_inertia();
+    }
+}
+
+/// A kinematic body along its own velocities: the turn is the exact rotation by ω dt, so
+/// that substeps add up to the turn of the whole step (a target pose is reached).
+fn move_kinematic(body: &mut RigidBody, dt: f64) {
+    body.position += body.kinematic_velocity * dt;
+    if body.kinematic_spin != DVec3::ZERO {
+        body.orientation = rotate_exact(body.orientation, body.kinematic_spin, dt);
     }
 }
 

@@ -1,12 +1,13 @@
 //! Islands and sleeping.
 //!
-//! Bodies touching through contacts form islands (static bodies do not join islands: a floor
+//! Bodies touching through contacts or held by a joint form islands (static bodies do not join islands: a floor
 //! does not tie everything on it together). A body is quiet while its kinetic energy stays
 //! under ½ m v², v = `sleep_speed` (the report's criterion: energy, watched over time so a
 //! ball at the top of its flight is not put to sleep). An island whose bodies have all been
 //! quiet for `time_to_sleep` sleeps as a whole; an island with any body that is not quiet is
 //! awake as a whole, which is how an awake body wakes the sleeping ones it touches.
 
+use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::physics::collision::contact::ContactManifold;
@@ -58,12 +59,20 @@ const NOT_A_MEMBER: u32 = u32::MAX;
 pub fn add_quiet_time(bodies: &mut [RigidBody], awake: &[u32], dt: f64, settings: &SleepSettings) {
     for &index in awake {
         let body = &mut bodies[index as usize];
-        let quiet = body.kinetic_energy() < 0.5 * body.mass() * settings.sleep_speed.powi(2);
+        let quiet = if body.is_kinematic() {
+            // It never sleeps while it moves, and keeps its island awake.
+            body.velocity() == DVec3::ZERO
+                && body.angular_velocity() == DVec3::ZERO
+                && body.kinematic_target.is_none()
+        } else {
+            body.kinetic_energy() < 0.5 * body.mass() * settings.sleep_speed.powi(2)
+        };
         body.quiet_time = if quiet { body.quiet_time + dt } else { 0.0 };
     }
 }
 
-/// Puts to sleep or wakes the islands the awake bodies form with the bodies they touch, by
+/// Puts to sleep or wakes the islands the awake bodies form with the bodies they touch or
+/// are joined to (`links`: the bodies of each joint), by
 /// the quiet times of the steps before (`add_quiet_time`). Only the awake bodies and the
 /// sleeping bodies in this step's contacts are visited: bodies asleep apart from them stay
 /// as they are at no cost. Returns true when some body fell asleep or woke.
@@ -71,6 +80,7 @@ pub fn update(
     bodies: &mut [RigidBody],
     awake: &[u32],
     manifolds: &[ContactManifold],
+    links: &[(u32, u32)],
     settings: &SleepSettings,
     scratch: &mut IslandScratch,
 ) -> bool {
@@ -84,8 +94,16 @@ pub fn update(
     members.extend_from_slice(awake);
     for m in manifolds {
         for id in [m.body_a, m.body_b] {
-            if bodies[id.index()].is_dynamic() && bodies[id.index()].sleeping {
+            if bodies[id.index()].motion.moves() && bodies[id.index()].sleeping {
                 members.push(id.0);
+            }
+        }
+    }
+    for &(a, b) in links {
+        for (this, other) in [(a, b), (b, a)] {
+            let (this_body, other_body) = (&bodies[this as usize], &bodies[other as usize]);
+            if other_body.is_awake() && this_body.motion.moves() && this_body.sleeping {
+                members.push(this);
             }
         }
     }
@@ -102,6 +120,11 @@ pub fn update(
     islands.reset(members.len());
     for m in manifolds {
         if let (Some(a), Some(b)) = (local(m.body_a), local(m.body_b)) {
+            islands.union(a, b);
+        }
+    }
+    for &(a, b) in links {
+        if let (Some(a), Some(b)) = (local(BodyId(a)), local(BodyId(b))) {
             islands.union(a, b);
         }
     }

@@ -6,6 +6,14 @@
 //! Slot 0 stands for every body that does not move in this step (static, asleep): zero
 //! momenta and inverse mass, never written.
 //!
+//! A kinematic body has a slot of its own: contacts and joints must see its velocity, and
+//! nothing they do may change it. Its slot holds its velocities times `KINEMATIC_SCALE` as
+//! momenta, with the inverse mass (and inverse inertia, `spin_of_momentum`) 1/`KINEMATIC_SCALE`:
+//! a power of two, so the velocities read back exactly. The impulses the contacts give it
+//! change that velocity by less than 10⁻¹⁹ of themselves within a substep; they are dropped
+//! when the substep starts again from the body's own velocity, and are never written back.
+//! The effective masses of its contacts and joints take its inverse mass as zero.
+//!
 //! The slots are padded with copies of slot 0 to a power of two, so that a pass can keep
 //! every slot it is handed within them with one mask (`SharedBodies::get`) instead of a
 //! bounds check and its panic path, about six per contact point in every pass
@@ -13,9 +21,9 @@
 
 use std::marker::PhantomData;
 
-use glam::DMat3;
+use glam::{DMat3, DVec3};
 
-use crate::physics::dynamics::body::RigidBody;
+use crate::physics::dynamics::body::{Motion, RigidBody};
 use crate::physics::solver::lanes::{F64x4, LaneVector, Lanes};
 
 /// The part of a body that a pass over the contacts reads and changes, as lanes (see
@@ -38,10 +46,16 @@ impl SolverBody {
     /// Writes the momenta the contacts changed back to the body.
     #[inline(always)]
     fn write_momenta(&self, body: &mut RigidBody) {
+        if body.is_kinematic() {
+            return; // its scaled velocities are the solver's alone
+        }
         body.linear_momentum = self.linear_momentum.to_vec3();
         body.angular_momentum = self.angular_momentum.to_vec3();
     }
 }
+
+/// What a kinematic body's slot scales its velocities by (see the module comment).
+pub const KINEMATIC_SCALE: f64 = 18_446_744_073_709_551_616.0; // 2^64
 
 /// The slot that every body which does not move shares.
 pub const FIXED_SLOT: u32 = 0;
@@ -114,6 +128,10 @@ impl SolverBodies {
     ) {
         for (k, (slot, &index)) in self.slots[1..].iter_mut().zip(&self.awake).enumerate() {
             let body = &mut bodies[index as usize];
+            if body.is_kinematic() {
+                *slot = gathered(body);
+                continue;
+            }
             integrate(k, body);
             slot.before_contacts = [
                 F64x4::from_vec3(body.linear_momentum),
@@ -171,7 +189,33 @@ impl SolverBodies {
     }
 }
 
+impl SolverBodies {
+    /// What turns a body's slot's angular momentum into its spin: I⁻¹ in world axes at
+    /// step start for a dynamic body, 1/`KINEMATIC_SCALE` for a kinematic one (see the
+    /// module comment); zero for one that does not move.
+    #[inline(always)]
+    pub fn spin_of_momentum(body: &RigidBody) -> DMat3 {
+        match body.motion {
+            Motion::Dynamic => body.inv_inertia_world,
+            Motion::Kinematic => DMat3::from_diagonal(DVec3::splat(1.0 / KINEMATIC_SCALE)),
+            _ => DMat3::ZERO,
+        }
+    }
+}
+
 fn gathered(body: &RigidBody) -> SolverBody {
+    if body.is_kinematic() {
+        return SolverBody {
+            linear_momentum: F64x4::from_vec3(body.kinematic_velocity * KINEMATIC_SCALE),
+            angular_momentum: F64x4::from_vec3(body.kinematic_spin * KINEMATIC_SCALE),
+            inv_mass: 1.0 / KINEMATIC_SCALE,
+            ..gathered_at_rest(body)
+        };
+    }
+    gathered_at_rest(body)
+}
+
+fn gathered_at_rest(body: &RigidBody) -> SolverBody {
     SolverBody {
         linear_momentum: F64x4::from_vec3(body.linear_momentum),
         angular_momentum: F64x4::from_vec3(body.angular_momentum),

@@ -43,7 +43,7 @@ impl Proxy {
     pub fn of_body(body: &RigidBody, margin: f64) -> Proxy {
         Proxy {
             aabb: Aabb::of_body(body).fattened(margin),
-            active: body.is_dynamic(),
+            active: body.motion.moves(),
         }
     }
 }

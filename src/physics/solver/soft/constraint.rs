@@ -7,7 +7,9 @@ use glam::{DMat3, DVec3};
 use super::WarmImpulse;
 use crate::physics::dynamics::body::RigidBody;
 use crate::physics::solver::lanes::{F64x4, LaneVector, Lanes};
-use crate::physics::solver::solver_bodies::{FIXED_SLOT, Push, SharedBodies, SolverBody};
+use crate::physics::solver::solver_bodies::{
+    FIXED_SLOT, Push, SharedBodies, SolverBodies, SolverBody,
+};
 
 /// One prepared contact point. Its directions are the normal (from a to b), then the two
 /// tangents; the arms stay fixed for the step: impulses act where the bodies touch, not
@@ -219,8 +221,9 @@ impl<V: LaneVector> SideGeometry<V> {
             d0 * r.z - d2 * r.x,
             d1 * r.x - d0 * r.y,
         ];
-        // I⁻¹ (r × d) by columns: col x · arm.x + col y · arm.y + col z · arm.z.
-        let m = body.inv_inertia_world;
+        // I⁻¹ (r × d) by columns: col x · arm.x + col y · arm.y + col z · arm.z (a kinematic
+        // body's spin is read through its slot's scale: `solver_bodies`).
+        let m = SolverBodies::spin_of_momentum(body);
         let (x, y, z) = (m.x_axis, m.y_axis, m.z_axis);
         let spins = [
             arms[0] * x.x + arms[1] * y.x + arms[2] * z.x,

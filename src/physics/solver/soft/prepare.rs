@@ -96,8 +96,10 @@ impl SlotMotion {
     }
 }
 
+/// Zero for a body no force moves: asleep, or kinematic (whose infinite mass would make
+/// gravity's force infinite).
 fn environment_acceleration(body: &RigidBody, forces: &[EnvironmentForce]) -> DVec3 {
-    if !body.is_awake() {
+    if !(body.is_awake() && body.is_dynamic()) {
         return DVec3::ZERO;
     }
     forces.iter().map(|f| f.force_on(body)).sum::<DVec3>() * body.inv_mass

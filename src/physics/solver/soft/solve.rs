@@ -19,7 +19,7 @@ const MAX_HERTZ_PER_SUBSTEP_RATE: f64 = 0.2;
 
 /// Spring coefficients of a soft constraint for one substep.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Softness {
+pub(crate) struct Softness {
     bias_rate: f64,
     mass_scale: f64,
     impulse_scale: f64,
@@ -33,7 +33,15 @@ impl Softness {
         Softness::new(hertz, settings.damping_ratio, h)
     }
 
-    fn new(hertz: f64, damping_ratio: f64, h: f64) -> Self {
+    /// The joints' spring for substeps of length `h`: `joint_hertz`, capped at a quarter of
+    /// the substep rate, beyond which a weld's two blocks rang apart.
+    pub(crate) fn of_joints(settings: &SoftSolverSettings, h: f64) -> Self {
+        let hertz = settings.joint_hertz.min(0.25 / h);
+        Softness::new(hertz, settings.joint_damping_ratio, h)
+    }
+
+    /// A spring of `hertz` and `damping_ratio` over substeps of length `h`.
+    pub(crate) fn new(hertz: f64, damping_ratio: f64, h: f64) -> Self {
         let omega = 2.0 * std::f64::consts::PI * hertz;
         let a1 = 2.0 * damping_ratio + h * omega;
         let a2 = h * omega * a1;
@@ -43,6 +51,21 @@ impl Softness {
             mass_scale: a2 * a3,
             impulse_scale: a3,
         }
+    }
+
+    /// The velocity bias per metre (or radian) of error, 1/s.
+    pub(crate) fn bias_rate(&self) -> f64 {
+        self.bias_rate
+    }
+
+    /// How much of the rigid impulse the spring gives.
+    pub(crate) fn mass_scale(&self) -> f64 {
+        self.mass_scale
+    }
+
+    /// How much of the accumulated impulse the spring lets go each solve.
+    pub(crate) fn impulse_scale(&self) -> f64 {
+        self.impulse_scale
     }
 }
 

@@ -1,0 +1,458 @@
+//! The joints' share of a soft step (`solver::soft`): **prepare** (each joint's bodies'
+//! solver slots and inverse masses), the first **warm start** (the impulses the joint
+//! ended the last step with), the **biased** and **relax** passes of each substep, and
+//! **finish** (impulses kept for the next step, the reaction measured).
+//!
+//! The joints are solved serially, in the order they were added, before the contacts'
+//! colours in each pass: the result stays deterministic with any number of threads, and
+//! the contacts see bodies the joints have already held together.
+//!
+//! Each substep a joint warm starts itself, along its directions at the bodies' current
+//! poses. The contacts' warm start is carried per body instead (the change in momenta over
+//! a substep, `SolverBodies::store_warm_start`), which suits directions fixed for the step;
+//! a joint's turn with its bodies (a pendulum's rod), and carried that way its impulse of
+//! the last substep would keep its old direction and push the bob along its path, so the
+//! joints take what they gave out of that change (`end_substep`).
+
+use glam::{DMat3, DVec3};
+
+use super::desc::JointKind;
+use super::joint::{Joint, JointImpulses, rotation_of};
+use super::rows::{BodyView, Bound, LinearRow, RowPass, solve_angular, solve_axial, solve_point};
+use crate::physics::dynamics::body::RigidBody;
+use crate::physics::solver::lanes::F64x4;
+use crate::physics::solver::solver_bodies::{FIXED_SLOT, SolverBodies, SolverBody};
+
+/// A joint prepared for one step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct JointConstraint {
+    /// Its place in the world's joint list.
+    index: usize,
+    joint: Joint,
+    sides: [Side; 2],
+    /// The linear and angular momentum the joint gave each body in this substep.
+    given: [[DVec3; 2]; 2],
+}
+
+/// One body of a prepared joint.
+#[derive(Clone, Copy, Debug)]
+struct Side {
+    slot: u32,
+    /// 1/m as impulses see it: zero unless the body is dynamic and awake.
+    inv_mass: f64,
+    /// I⁻¹ in world axes at step start, as impulses see it.
+    inv_inertia: DMat3,
+    /// What turns the slot's angular momentum into the body's spin (I⁻¹ for a dynamic
+    /// body; a kinematic body's slot holds its spin scaled, see `SolverBodies`).
+    spin_of_momentum: DMat3,
+    /// The pose of a body without a moving slot, fixed for the step.
+    pose: (DVec3, DMat3),
+}
+
+impl Side {
+    fn new(body: &RigidBody, slot: u32) -> Side {
+        let moves = slot != FIXED_SLOT && body.is_dynamic();
+        let inv_mass = if moves { body.inv_mass } else { 0.0 };
+        let inv_inertia = if moves {
+            body.inv_inertia_world
+        } else {
+            DMat3::ZERO
+        };
+        Side {
+            slot,
+            inv_mass,
+            inv_inertia,
+            spin_of_momentum: SolverBodies::spin_of_momentum(body),
+            pose: (body.position, body.orientation),
+        }
+    }
+
+    fn view(&self, slots: &[SolverBody]) -> BodyView {
+        let (mut position, mut orientation) = self.pose;
+        let (mut velocity, mut spin) = (DVec3::ZERO, DVec3::ZERO);
+        if self.slot != FIXED_SLOT {
+            let slot = &slots[self.slot as usize];
+            position = slot.position.to_vec3();
+            let [x, y, z] = slot.orientation.map(|c| c.to_vec3());
+            orientation = DMat3::from_cols(x, y, z);
+            velocity = slot.linear_momentum.to_vec3() * slot.inv_mass;
+            spin = self.spin_of_momentum * slot.angular_momentum.to_vec3();
+        }
+        BodyView {
+            position,
+            orientation,
+            velocity,
+            spin,
+            inv_mass: self.inv_mass,
+            inv_inertia: self.inv_inertia,
+            linear_impulse: DVec3::ZERO,
+            angular_impulse: DVec3::ZERO,
+        }
+    }
+
+    /// Adds the momenta the rows gave the body to its slot. A body that impulses do not
+    /// move (static, asleep, kinematic) is never written.
+    fn write(&self, view: &BodyView, slots: &mut [SolverBody], given: &mut [DVec3; 2]) {
+        if self.inv_mass == 0.0 {
+            return;
+        }
+        let slot = &mut slots[self.slot as usize];
+        let (linear, angular) = (view.linear_impulse, view.angular_impulse);
+        slot.linear_momentum = F64x4::from_vec3(slot.linear_momentum.to_vec3() + linear);
+        slot.angular_momentum = F64x4::from_vec3(slot.angular_momentum.to_vec3() + angular);
+        given[0] += linear;
+        given[1] += angular;
+    }
+}
+
+/// Prepares every joint with a body that moves in this step, in joint order. `slots` must
+/// already be assigned to this step's awake bodies.
+pub(crate) fn prepare(
+    prepared: &mut Vec<JointConstraint>,
+    joints: &[Option<Joint>],
+    bodies: &[RigidBody],
+    slots: &SolverBodies,
+) {
+    prepared.clear();
+    for (index, joint) in joints.iter().enumerate() {
+        let Some(joint) = joint else { continue };
+        let (a, b) = (joint.body_a.index(), joint.body_b.index());
+        if !(bodies[a].motion.takes_part() && bodies[b].motion.takes_part()) {
+            continue;
+        }
+        let sides = [
+            Side::new(&bodies[a], slots.slot_of(a)),
+            Side::new(&bodies[b], slots.slot_of(b)),
+        ];
+        if sides.iter().all(|s| s.inv_mass == 0.0) {
+            continue;
+        }
+        prepared.push(JointConstraint {
+            index,
+            joint: *joint,
+            sides,
+            given: [[DVec3::ZERO; 2]; 2],
+        });
+    }
+}
+
+/// A substep's warm start: each joint's impulses of the last substep (or step), along its
+/// directions now.
+pub(crate) fn warm_start(prepared: &mut [JointConstraint], slots: &mut [SolverBody]) {
+    for c in prepared.iter_mut() {
+        let [mut a, mut b] = c.sides.map(|s| s.view(slots));
+        apply_held_impulses(&c.joint, [&mut a, &mut b]);
+        c.write(&a, &b, slots);
+    }
+}
+
+/// One pass over the joints, in order (see the module comment).
+pub(crate) fn solve_all(prepared: &mut [JointConstraint], slots: &mut [SolverBody], pass: RowPass) {
+    for c in prepared.iter_mut() {
+        let [mut a, mut b] = c.sides.map(|s| s.view(slots));
+        solve_joint(&mut c.joint, [&mut a, &mut b], pass);
+        c.write(&a, &b, slots);
+    }
+}
+
+/// Ends a substep, before `SolverBodies::store_warm_start`: what the joints gave each body
+/// counts as given before the contacts, so that the bodies carry only the contacts' share
+/// to the next substep's warm start (see the module comment).
+pub(crate) fn end_substep(prepared: &mut [JointConstraint], slots: &mut [SolverBody]) {
+    for c in prepared.iter_mut() {
+        for (side, given) in c.sides.iter().zip(&mut c.given) {
+            if side.inv_mass != 0.0 {
+                let before = &mut slots[side.slot as usize].before_contacts;
+                before[0] = F64x4::from_vec3(before[0].to_vec3() + given[0]);
+                before[1] = F64x4::from_vec3(before[1].to_vec3() + given[1]);
+            }
+            *given = [DVec3::ZERO; 2];
+        }
+    }
+}
+
+impl JointConstraint {
+    fn write(&mut self, a: &BodyView, b: &BodyView, slots: &mut [SolverBody]) {
+        let [given_a, given_b] = &mut self.given;
+        self.sides[0].write(a, slots, given_a);
+        self.sides[1].write(b, slots, given_b);
+    }
+}
+
+/// Hands each joint its impulses for the next step's warm start, and its reaction: the
+/// force and torque (about b's anchor) it put on b, from the impulses per substep of
+/// length `h`.
+pub(crate) fn finish(
+    prepared: &[JointConstraint],
+    slots: &[SolverBody],
+    joints: &mut [Option<Joint>],
+    h: f64,
+) {
+    for c in prepared {
+        let [mut a, mut b] = c.sides.map(|s| s.view(slots));
+        apply_held_impulses(&c.joint, [&mut a, &mut b]);
+        let rb = b.orientation * c.joint.local_anchor_b;
+        let Some(joint) = joints[c.index].as_mut() else {
+            continue;
+        };
+        joint.impulses = c.joint.impulses;
+        joint.reaction_force = b.linear_impulse / h;
+        joint.reaction_torque = (b.angular_impulse - rb.cross(b.linear_impulse)) / h;
+    }
+}
+
+/// Where a joint's rows act in the bodies' current poses.
+struct Geometry {
+    ra: DVec3,
+    rb: DVec3,
+    /// The axis as a carries it (hinge, slider).
+    axis: DVec3,
+}
+
+impl Geometry {
+    fn of(joint: &Joint, a: &BodyView, b: &BodyView) -> Geometry {
+        Geometry {
+            ra: a.orientation * joint.local_anchor_a,
+            rb: b.orientation * joint.local_anchor_b,
+            axis: a.orientation * joint.local_axis_a,
+        }
+    }
+
+    /// From a's anchor to b's.
+    fn separation(&self, a: &BodyView, b: &BodyView) -> DVec3 {
+        (b.position + self.rb) - (a.position + self.ra)
+    }
+}
+
+/// Every row of one joint, once, in the order the kind needs: what a joint allows (motor,
+/// limits, spring) first, what it forbids last, so that the hard rows have the last word.
+fn solve_joint(joint: &mut Joint, [a, b]: [&mut BodyView; 2], pass: RowPass) {
+    let g = Geometry::of(joint, a, b);
+    let mut held = joint.impulses;
+    let impulses = &mut held;
+    match joint.kind {
+        JointKind::Ball => solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass),
+        JointKind::Fixed => {
+            let error = rotation_error(joint, a, b);
+            solve_angular([a, b], DVec3::ZERO, error, &mut impulses.angular, pass);
+            solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass);
+        }
+        JointKind::Hinge => {
+            let angle = hinge_angle(joint, a, b);
+            let (limits, motor) = (joint.limits, joint.motor);
+            axial_rows([a, b], g.axis, angle, limits, motor, impulses, pass);
+            let error = g.axis.cross(b.orientation * joint.local_axis_b);
+            solve_angular([a, b], g.axis, error, &mut impulses.angular, pass);
+            solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass);
+        }
+        JointKind::Slider => solve_slider(joint, impulses, &g, [a, b], pass),
+        JointKind::Distance => solve_distance(joint, impulses, &g, [a, b], pass),
+    }
+    joint.impulses = held;
+}
+
+/// A hinge's motor and limits about `axis`, at the hinge `angle`.
+fn axial_rows(
+    [a, b]: [&mut BodyView; 2],
+    axis: DVec3,
+    angle: f64,
+    limits: Option<(f64, f64)>,
+    motor: Option<super::desc::Motor>,
+    impulses: &mut JointImpulses,
+    pass: RowPass,
+) {
+    if let Some(m) = motor {
+        let bound = Bound::Motor {
+            speed: m.speed,
+            limit: m.max_force * pass.h,
+        };
+        solve_axial([a, b], axis, 0.0, bound, &mut impulses.motor, pass);
+    }
+    if let Some((lo, hi)) = limits {
+        let lower = angle - lo;
+        solve_axial(
+            [a, b],
+            axis,
+            lower,
+            Bound::AtLeast,
+            &mut impulses.lower,
+            pass,
+        );
+        let upper = hi - angle;
+        solve_axial(
+            [a, b],
+            -axis,
+            upper,
+            Bound::AtLeast,
+            &mut impulses.upper,
+            pass,
+        );
+    }
+}
+
+/// No turn, and b's anchor on the line through a's along the axis; the motor and limits
+/// act along it.
+fn solve_slider(
+    joint: &Joint,
+    impulses: &mut JointImpulses,
+    g: &Geometry,
+    [a, b]: [&mut BodyView; 2],
+    pass: RowPass,
+) {
+    let d = g.separation(a, b);
+    let offset = g.axis.dot(d);
+    let along = LinearRow {
+        n: g.axis,
+        ra: g.ra + d,
+        rb: g.rb,
+    };
+    if let Some(m) = joint.motor {
+        let bound = Bound::Motor {
+            speed: m.speed,
+            limit: m.max_force * pass.h,
+        };
+        along.solve([a, b], 0.0, bound, &mut impulses.motor, pass);
+    }
+    if let Some((lo, hi)) = joint.limits {
+        along.solve(
+            [a, b],
+            offset - lo,
+            Bound::AtLeast,
+            &mut impulses.lower,
+            pass,
+        );
+        let back = LinearRow {
+            n: -g.axis,
+            ..along
+        };
+        back.solve(
+            [a, b],
+            hi - offset,
+            Bound::AtLeast,
+            &mut impulses.upper,
+            pass,
+        );
+    }
+    let error = rotation_error(joint, a, b);
+    solve_angular([a, b], DVec3::ZERO, error, &mut impulses.angular, pass);
+    let (t1, t2) = g.axis.any_orthonormal_pair();
+    for (k, n) in [t1, t2].into_iter().enumerate() {
+        let d = g.separation(a, b);
+        let row = LinearRow { n, ..along };
+        row.solve(
+            [a, b],
+            n.dot(d),
+            Bound::Equal,
+            &mut impulses.across[k],
+            pass,
+        );
+    }
+}
+
+/// The anchors at the joint's length (a rod), within its limits (a rope), or pulled by
+/// its spring.
+fn solve_distance(
+    joint: &Joint,
+    impulses: &mut JointImpulses,
+    g: &Geometry,
+    [a, b]: [&mut BodyView; 2],
+    pass: RowPass,
+) {
+    let d = g.separation(a, b);
+    let length = d.length();
+    if length < 1e-12 {
+        return; // no direction to push along
+    }
+    let row = LinearRow {
+        n: d / length,
+        ra: g.ra,
+        rb: g.rb,
+    };
+    let limits = joint.limits.unwrap_or((0.0, f64::INFINITY));
+    if limits.0 == limits.1 {
+        row.solve(
+            [a, b],
+            length - limits.0,
+            Bound::Equal,
+            &mut impulses.along,
+            pass,
+        );
+        return;
+    }
+    if let Some(spring) = joint.spring.filter(|s| s.hertz > 0.0) {
+        let soft =
+            crate::physics::solver::soft::Softness::new(spring.hertz, spring.damping_ratio, pass.h);
+        let c = length - joint.length;
+        row.solve([a, b], c, Bound::Spring(soft), &mut impulses.along, pass);
+    }
+    if limits.0 > 0.0 {
+        row.solve(
+            [a, b],
+            length - limits.0,
+            Bound::AtLeast,
+            &mut impulses.lower,
+            pass,
+        );
+    }
+    if limits.1.is_finite() {
+        let back = LinearRow { n: -row.n, ..row };
+        back.solve(
+            [a, b],
+            limits.1 - length,
+            Bound::AtLeast,
+            &mut impulses.upper,
+            pass,
+        );
+    }
+}
+
+/// The small rotation, world, that b has turned away from its orientation at creation
+/// relative to a (twice the vector part of the error quaternion).
+fn rotation_error(joint: &Joint, a: &BodyView, b: &BodyView) -> DVec3 {
+    let target = rotation_of(a.orientation) * joint.relative_rotation;
+    let mut error = rotation_of(b.orientation) * target.inverse();
+    if error.w < 0.0 {
+        error = -error;
+    }
+    2.0 * DVec3::new(error.x, error.y, error.z)
+}
+
+/// The hinge's angle, rad in (−π, π]: b's turn about the axis since creation.
+fn hinge_angle(joint: &Joint, a: &BodyView, b: &BodyView) -> f64 {
+    let axis = a.orientation * joint.local_axis_a;
+    let ref_a = a.orientation * joint.local_reference_a;
+    let ref_b = b.orientation * joint.local_reference_b;
+    axis.dot(ref_a.cross(ref_b)).atan2(ref_a.dot(ref_b))
+}
+
+/// Adds the impulses the joint holds to the views, along the current directions (a warm
+/// start; a reaction).
+fn apply_held_impulses(joint: &Joint, [a, b]: [&mut BodyView; 2]) {
+    let g = Geometry::of(joint, a, b);
+    let i = joint.impulses;
+    let d = g.separation(a, b);
+    a.push_at(g.ra, -i.point);
+    b.push_at(g.rb, i.point);
+    a.push(DVec3::ZERO, -i.angular);
+    b.push(DVec3::ZERO, i.angular);
+    let (n, ra) = match joint.kind {
+        JointKind::Hinge => {
+            let axial = g.axis * (i.motor + i.lower - i.upper);
+            a.push(DVec3::ZERO, -axial);
+            b.push(DVec3::ZERO, axial);
+            return;
+        }
+        JointKind::Slider => {
+            let (t1, t2) = g.axis.any_orthonormal_pair();
+            let across = t1 * i.across[0] + t2 * i.across[1];
+            (g.axis * (i.motor + i.lower - i.upper) + across, g.ra + d)
+        }
+        JointKind::Distance => {
+            let n = d.normalize_or_zero();
+            (n * (i.along + i.lower - i.upper), g.ra)
+        }
+        JointKind::Ball | JointKind::Fixed => return,
+    };
+    a.push_at(ra, -n);
+    b.push_at(g.rb, n);
+}

@@ -1,0 +1,131 @@
+//! The world's joints: adding, removing and reading them, and what they tie together (the
+//! islands they link, the pairs whose collision they switch off).
+
+use std::collections::HashSet;
+
+use super::World;
+use crate::physics::collision::broad_phase::BodyPair;
+use crate::physics::dynamics::body::BodyId;
+use crate::physics::joints::desc::{JointDesc, JointError, JointId};
+use crate::physics::joints::joint::Joint;
+
+/// What the joints tie together, derived from the joint list whenever it changes.
+#[derive(Clone, Debug, Default)]
+pub(super) struct JointLinks {
+    /// The slots of each joint's bodies, for the islands: joined bodies sleep and wake
+    /// together.
+    links: Vec<(u32, u32)>,
+    /// Slots of joined bodies that do not collide (`JointDesc::collide_connected` off), lower
+    /// first.
+    unjoined: HashSet<(u32, u32)>,
+}
+
+impl JointLinks {
+    pub(super) fn of(joints: &[Option<Joint>]) -> JointLinks {
+        let mut links = JointLinks::default();
+        for joint in joints.iter().flatten() {
+            let (a, b) = (joint.body_a.index() as u32, joint.body_b.index() as u32);
+            links.links.push((a, b));
+            if !joint.collide_connected {
+                links.unjoined.insert((a.min(b), a.max(b)));
+            }
+        }
+        links
+    }
+
+    pub(super) fn links(&self) -> &[(u32, u32)] {
+        &self.links
+    }
+
+    /// Takes out of the broad phase's pairs those of joined bodies that do not collide.
+    pub(super) fn drop_unjoined_pairs(&self, pairs: &mut Vec<BodyPair>) {
+        if !self.unjoined.is_empty() {
+            let slots = |p: &BodyPair| (p.a.index() as u32, p.b.index() as u32);
+            pairs.retain(|p| !self.unjoined.contains(&slots(p)));
+        }
+    }
+}
+
+impl World {
+    /// Joins two bodies as they are now (anchors and axes in world coordinates). Refused, with
+    /// the world unchanged, for a body that does not exist or no longer takes part, the same
+    /// body twice, two bodies neither of which is dynamic, and what `JointDesc::validate`
+    /// refuses.
+    pub fn add_joint(&mut self, desc: JointDesc) -> Result<JointId, JointError> {
+        desc.validate()?;
+        for id in [desc.body_a, desc.body_b] {
+            match self.get_body(id) {
+                None => return Err(JointError::NoSuchBody(id.0)),
+                Some(body) if !body.motion.takes_part() => {
+                    return Err(JointError::BodyGone(id.0));
+                }
+                Some(_) => {}
+            }
+        }
+        let (a, b) = (
+            &self.bodies[desc.body_a.index()],
+            &self.bodies[desc.body_b.index()],
+        );
+        if !a.is_dynamic() && !b.is_dynamic() {
+            return Err(JointError::NoDynamicBody);
+        }
+        let joint = Joint::new(&desc, a, b);
+        let id = JointId(self.joints.len() as u32);
+        self.joints.push(Some(joint));
+        self.joints_changed(&[desc.body_a, desc.body_b]);
+        Ok(id)
+    }
+
+    /// Removes a joint; its bodies wake.
+    pub fn remove_joint(&mut self, id: JointId) -> Result<(), JointError> {
+        let slot = self.joints.get_mut(id.0 as usize);
+        let Some(joint) = slot.and_then(Option::take) else {
+            return Err(JointError::NoSuchJoint(id.0));
+        };
+        self.joints_changed(&[joint.body_a, joint.body_b]);
+        Ok(())
+    }
+
+    /// The joint `id` (with the reaction of the last step), or None if there is no such
+    /// joint or it was removed.
+    pub fn joint(&self, id: JointId) -> Option<&Joint> {
+        self.joints.get(id.0 as usize)?.as_ref()
+    }
+
+    /// Every joint that is still there, with its id.
+    pub fn joints(&self) -> impl Iterator<Item = (JointId, &Joint)> {
+        (self.joints.iter().enumerate())
+            .filter_map(|(k, j)| j.as_ref().map(|j| (JointId(k as u32), j)))
+    }
+
+    /// How many joints the world holds.
+    pub fn joint_count(&self) -> usize {
+        self.joint_links.links.len()
+    }
+
+    /// Removes the joints of body `index` (the body is being removed).
+    pub(super) fn remove_joints_of(&mut self, index: usize) {
+        let mut bodies = Vec::new();
+        for slot in &mut self.joints {
+            if slot.is_some_and(|j| j.holds(index)) {
+                let joint = slot.take().expect("checked");
+                bodies.extend([joint.body_a, joint.body_b]);
+            }
+        }
+        if !bodies.is_empty() {
+            self.joints_changed(&bodies);
+        }
+    }
+
+    /// The links are derived again, and the joined bodies woken and looked at again.
+    fn joints_changed(&mut self, bodies: &[BodyId]) {
+        self.joint_links = JointLinks::of(&self.joints);
+        for id in bodies {
+            let body = &mut self.bodies[id.index()];
+            if body.sleeping {
+                body.wake();
+            }
+            self.awake_set.touch(id.index());
+        }
+    }
+}

@@ -1,0 +1,537 @@
+//! Joints against analytic answers: the pendulum's period (small angle and 90°, the latter
+//! from the complete elliptic integral) and energy, hanging chains' stretch, a hinge motor
+//! under loads below and above its torque, limits, slider, weld and rope, and the typed
+//! errors of bad descriptions.
+
+use std::f64::consts::PI;
+
+use glam::{DQuat, DVec3};
+use rigid::physics::{
+    BodyDesc, BodyId, EnvironmentForce, JointDesc, JointError, JointId, Pipeline, Shape, StepError,
+    World,
+};
+
+const G: f64 = 9.81;
+const DT: f64 = 1.0 / 60.0;
+
+fn world() -> World {
+    let mut world = World::default();
+    world.forces.push(EnvironmentForce::earth_gravity());
+    world.settings.sleep.enabled = false;
+    world
+}
+
+fn fixed_point(world: &mut World, at: DVec3) -> BodyId {
+    let desc = BodyDesc::fixed(Shape::sphere(0.02)).at(at);
+    world.add_body(desc).unwrap()
+}
+
+fn ball(world: &mut World, at: DVec3, radius: f64, mass: f64) -> BodyId {
+    let desc = BodyDesc::dynamic(Shape::sphere(radius))
+        .at(at)
+        .with_mass(mass);
+    world.add_body(desc).unwrap()
+}
+
+/// A point-like bob (1 kg, radius 1 cm) on a rod of 1 m from the origin, released at rest
+/// `amplitude` rad from the vertical.
+fn pendulum(amplitude: f64) -> (World, BodyId) {
+    let mut world = world();
+    let pivot = fixed_point(&mut world, DVec3::ZERO);
+    let start = DVec3::new(amplitude.sin(), -amplitude.cos(), 0.0);
+    let bob = ball(&mut world, start, 0.01, 1.0);
+    (world.add_joint(JointDesc::distance(pivot, bob, DVec3::ZERO, start))).unwrap();
+    (world, bob)
+}
+
+/// The mean period over `swings` full swings, from the times x crosses zero going the
+/// same way (interpolated within the step).
+fn measured_period(world: &mut World, bob: BodyId, swings: usize) -> f64 {
+    let mut crossings = Vec::new();
+    let mut last = world.body(bob).position.x;
+    while crossings.len() < swings + 1 {
+        world.step(DT);
+        let x = world.body(bob).position.x;
+        if last > 0.0 && x <= 0.0 {
+            crossings.push(world.time() - DT * x / (x - last));
+        }
+        last = x;
+        assert!(world.time() < 100.0, "the pendulum stopped swinging");
+    }
+    (crossings[swings] - crossings[0]) / swings as f64
+}
+
+/// K(k) = π / (2 AGM(1, √(1 − k²))).
+fn elliptic_k(k: f64) -> f64 {
+    let (mut a, mut b) = (1.0_f64, (1.0 - k * k).sqrt());
+    while (a - b).abs() > 1e-15 {
+        (a, b) = (0.5 * (a + b), (a * b).sqrt());
+    }
+    PI / (2.0 * a)
+}
+
+#[test]
+fn a_small_swing_has_the_period_of_the_simple_pendulum() {
+    let (mut world, bob) = pendulum(0.05);
+    let period = measured_period(&mut world, bob, 5);
+    // The small-angle formula itself is 0.016 % long of the true period at 0.05 rad.
+    let expected = 2.0 * PI * (1.0 / G).sqrt() * (1.0 + 0.05f64.powi(2) / 16.0);
+    let error = (period - expected).abs() / expected;
+    println!("small swing: period {period:.5} s, expected {expected:.5} s, error {error:.2e}");
+    assert!(error < 0.005, "period {period} s, expected {expected} s");
+}
+
+#[test]
+fn a_swing_from_the_horizontal_has_the_elliptic_period() {
+    let (mut world, bob) = pendulum(PI / 2.0);
+    let period = measured_period(&mut world, bob, 5);
+    let expected = 4.0 * (1.0 / G).sqrt() * elliptic_k((PI / 4.0).sin());
+    let error = (period - expected).abs() / expected;
+    println!("90° swing: period {period:.5} s, expected {expected:.5} s, error {error:.2e}");
+    assert!(error < 0.01, "period {period} s, expected {expected} s");
+}
+
+/// Energy is compared where the swing turns (x's velocity changes sign), where it is all
+/// potential: in between, the substeps' semi-implicit Euler makes the sum of kinetic and
+/// potential energy swing by about m g v h / 2 (0.02 J here) around a constant.
+#[test]
+fn a_pendulum_gains_no_energy_in_a_minute() {
+    let (mut world, bob) = pendulum(PI / 2.0);
+    let energy = |w: &World| w.totals().kinetic_energy + w.totals().potential_energy;
+    let start = energy(&world);
+    let mut turns = Vec::new();
+    let mut last_vx = 0.0;
+    for _ in 0..60 * 60 {
+        world.step(DT);
+        let vx = world.body(bob).velocity().x;
+        if vx * last_vx < 0.0 {
+            turns.push(energy(&world));
+        }
+        last_vx = vx;
+    }
+    let highest = turns.iter().copied().fold(f64::MIN, f64::max);
+    let loss = (start - turns[turns.len() - 1]) / G;
+    println!(
+        "pendulum over 60 s: {} turns, lost {loss:.3e} of m g L",
+        turns.len()
+    );
+    assert!(turns.len() > 45, "{} turns", turns.len());
+    assert!(
+        highest <= start + 1e-6,
+        "energy rose by {} J",
+        highest - start
+    );
+}
+
+/// A chain of 20 links (capsules 0.5 m long) hanging from a fixed point, with `end_mass` kg
+/// hung from the last link by a ball joint, set swinging by a sideways push of
+/// `push_speed` m/s on its end, at `substeps` substeps of a step of 1/60 s;
+/// returns the largest separation of any joint's anchors over 10 s, m.
+fn chain_stretch(link_mass: f64, end_mass: Option<f64>, push_speed: f64, substeps: u32) -> f64 {
+    let mut world = world();
+    world.settings.solver.substeps = substeps;
+    let mut previous = fixed_point(&mut world, DVec3::ZERO);
+    let mut joints = Vec::new();
+    for k in 0..20 {
+        let centre = DVec3::new(0.0, -0.25 - 0.5 * k as f64, 0.0);
+        let link = BodyDesc::dynamic(Shape::capsule(0.2, 0.05))
+            .at(centre)
+            .with_mass(link_mass);
+        let link = world.add_body(link).unwrap();
+        let anchor = centre + DVec3::Y * 0.25;
+        joints.push(
+            world
+                .add_joint(JointDesc::ball(previous, link, anchor))
+                .unwrap(),
+        );
+        previous = link;
+    }
+    let mut end = previous;
+    if let Some(mass) = end_mass {
+        end = ball(&mut world, DVec3::new(0.0, -10.2, 0.0), 0.2, mass);
+        let anchor = DVec3::new(0.0, -10.0, 0.0);
+        joints.push(
+            world
+                .add_joint(JointDesc::ball(previous, end, anchor))
+                .unwrap(),
+        );
+    }
+    let push = DVec3::X * push_speed / world.body(end).inv_mass;
+    let at = world.body(end).position;
+    world.body_mut(end).apply_impulse_at(push, at);
+    let mut worst: f64 = 0.0;
+    for _ in 0..600 {
+        world.step(DT);
+        worst = worst.max(largest_separation(&world, &joints));
+    }
+    worst
+}
+
+fn largest_separation(world: &World, joints: &[JointId]) -> f64 {
+    let separation = |id: JointId| {
+        let j = world.joint(id).unwrap();
+        let (a, b) = (world.body(j.body_a), world.body(j.body_b));
+        let pa = a.position + a.orientation * j.local_anchor_a;
+        let pb = b.position + b.orientation * j.local_anchor_b;
+        pa.distance(pb)
+    };
+    joints.iter().map(|&id| separation(id)).fold(0.0, f64::max)
+}
+
+#[test]
+fn a_chain_of_twenty_links_does_not_stretch() {
+    let worst = chain_stretch(1.0, None, 1.0, 8);
+    println!(
+        "chain of 20: largest anchor separation {:.3} mm",
+        worst * 1e3
+    );
+    assert!(worst < 1e-3, "{worst} m");
+}
+
+/// At the default 8 substeps the joints' spring is capped at 120 Hz, and the 100 N the
+/// last light link carries stretches its joint 7.2 mm (a soft joint yields F / (m ω²), m
+/// the light link's share); 16 substeps carry 240 Hz.
+#[test]
+fn a_heavy_end_mass_on_light_links_holds() {
+    let worst = chain_stretch(0.1, Some(10.0), 1.0, 16);
+    println!(
+        "chain of 20 with 10 kg on 0.1 kg links: {:.3} mm",
+        worst * 1e3
+    );
+    assert!(worst < 5e-3, "{worst} m");
+}
+
+/// A wheel (1 kg, radius 0.5 m) on a motorised hinge about the world z axis through its
+/// centre, with `load` N·m resisting the motor; returns its spin after 2 s, rad/s.
+fn motor_spin(target: f64, max_torque: f64, load: f64) -> f64 {
+    let mut world = World::default();
+    let frame = fixed_point(&mut world, DVec3::new(0.0, 0.0, -1.0));
+    let wheel = world.add_body(BodyDesc::dynamic(Shape::cylinder(0.05, 0.5)).with_mass(1.0));
+    let wheel = wheel.unwrap();
+    let hinge =
+        JointDesc::hinge(frame, wheel, DVec3::ZERO, DVec3::Z).with_motor(target, max_torque);
+    world.add_joint(hinge).unwrap();
+    for _ in 0..120 {
+        world.body_mut(wheel).torque = DVec3::new(0.0, 0.0, -load);
+        world.step(DT);
+    }
+    world.body(wheel).angular_velocity().z
+}
+
+#[test]
+fn a_hinge_motor_reaches_its_speed_below_its_torque_and_stalls_above() {
+    let spin = motor_spin(2.0, 10.0, 5.0);
+    println!("motor under 5 of 10 N·m: {spin:.4} rad/s of 2");
+    assert!((spin - 2.0).abs() < 0.01 * 2.0, "{spin} rad/s");
+    let spin = motor_spin(2.0, 10.0, 15.0);
+    println!("motor under 15 of 10 N·m: {spin:.4} rad/s of 2");
+    assert!(
+        spin < 0.0,
+        "the overloaded motor turned forward at {spin} rad/s"
+    );
+}
+
+#[test]
+fn a_limited_hinge_holds_under_a_push() {
+    let mut world = World::default();
+    let frame = fixed_point(&mut world, DVec3::new(0.0, 0.0, -1.0));
+    let door = BodyDesc::dynamic(Shape::cuboid(DVec3::new(0.5, 1.0, 0.05)))
+        .at(DVec3::new(0.5, 0.0, 0.0))
+        .with_mass(20.0);
+    let door = world.add_body(door).unwrap();
+    let (lo, hi) = (-0.5, 1.0);
+    let hinge = JointDesc::hinge(frame, door, DVec3::ZERO, DVec3::Y).with_limits(lo, hi);
+    world.add_joint(hinge).unwrap();
+    for torque in [100.0, -100.0] {
+        let mut reached = 0.0_f64;
+        for _ in 0..180 {
+            world.body_mut(door).torque = DVec3::new(0.0, torque, 0.0);
+            world.step(DT);
+            let x = world.body(door).orientation.x_axis;
+            let angle = (-x.z).atan2(x.x);
+            reached = if torque > 0.0 {
+                reached.max(angle)
+            } else {
+                reached.min(angle)
+            };
+        }
+        let limit = if torque > 0.0 { hi } else { lo };
+        println!("hinge pushed by {torque} N·m: reached {reached:.4} rad, limit {limit}");
+        assert!(
+            (reached - limit).abs() < 0.01,
+            "reached {reached} rad, limit {limit}"
+        );
+    }
+}
+
+#[test]
+fn a_slider_keeps_its_line_and_limits() {
+    let mut world = world();
+    let rail = fixed_point(&mut world, DVec3::ZERO);
+    let axis = DVec3::new(1.0, -1.0, 0.0).normalize();
+    let block = world.add_body(BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.1))).with_mass(2.0));
+    let block = block.unwrap();
+    let slider = JointDesc::slider(rail, block, DVec3::ZERO, axis).with_limits(-0.2, 0.5);
+    world.add_joint(slider).unwrap();
+    let mut worst_off_line: f64 = 0.0;
+    let mut furthest: f64 = 0.0;
+    for _ in 0..180 {
+        world.step(DT);
+        let p = world.body(block).position;
+        worst_off_line = worst_off_line.max((p - axis * p.dot(axis)).length());
+        furthest = furthest.max(p.dot(axis));
+    }
+    let turned = world.body(block).rotation().angle_between(DQuat::IDENTITY);
+    println!(
+        "slider: off the line {worst_off_line:.2e} m, furthest {furthest:.4} m of 0.5, turned {turned:.2e} rad"
+    );
+    assert!(worst_off_line < 1e-3 && turned < 1e-3);
+    assert!((furthest - 0.5).abs() < 5e-3, "slid to {furthest} m");
+}
+
+/// A cantilever of two 1 kg bars, 1 m each, welded end to end to a wall and to each other,
+/// under gravity and a 0.5 N·m twist on the outer bar: each weld's relative pose must hold.
+#[test]
+fn a_weld_keeps_the_relative_pose() {
+    let mut world = world();
+    let wall = fixed_point(&mut world, DVec3::ZERO);
+    let bar = |world: &mut World, x: f64| {
+        let desc = BodyDesc::dynamic(Shape::cuboid(DVec3::new(0.5, 0.05, 0.05)))
+            .at(DVec3::new(x, 0.0, 0.0))
+            .with_mass(1.0);
+        world.add_body(desc).unwrap()
+    };
+    let (inner, outer) = (bar(&mut world, 0.5), bar(&mut world, 1.5));
+    (world.add_joint(JointDesc::fixed(wall, inner, DVec3::ZERO))).unwrap();
+    (world.add_joint(JointDesc::fixed(inner, outer, DVec3::X))).unwrap();
+    let relative = |w: &World, a: BodyId, b: BodyId| {
+        let (a, b) = (w.body(a), w.body(b));
+        let offset = a.orientation.transpose() * (b.position - a.position);
+        (offset, a.rotation().inverse() * b.rotation())
+    };
+    let start = [
+        relative(&world, wall, inner),
+        relative(&world, inner, outer),
+    ];
+    let mut worst: (f64, f64) = (0.0, 0.0);
+    for _ in 0..300 {
+        world.body_mut(outer).torque = DVec3::new(0.5, 0.0, 0.0);
+        world.step(DT);
+        for (k, (a, b)) in [(wall, inner), (inner, outer)].into_iter().enumerate() {
+            let (offset, turn) = relative(&world, a, b);
+            worst.0 = worst.0.max(offset.distance(start[k].0));
+            worst.1 = worst.1.max(turn.angle_between(start[k].1));
+        }
+    }
+    println!("weld: drift {:.2e} m, {:.2e} rad", worst.0, worst.1);
+    // A soft weld yields τ / (I ω²): 20 N·m on the inner bar at 120 Hz is 4e-4 rad.
+    assert!(worst.0 < 1e-3 && worst.1 < 2e-3, "{worst:?}");
+}
+
+#[test]
+fn a_rope_is_slack_within_and_taut_at_its_length() {
+    let mut world = world();
+    let pivot = fixed_point(&mut world, DVec3::ZERO);
+    let bob = ball(&mut world, DVec3::new(0.5, 0.0, 0.0), 0.05, 1.0);
+    let rope = JointDesc::distance(pivot, bob, DVec3::ZERO, DVec3::new(0.5, 0.0, 0.0))
+        .with_limits(0.0, 1.0);
+    world.add_joint(rope).unwrap();
+    let mut longest: f64 = 0.0;
+    // Free fall first: 0.5 m of slack.
+    world.step(DT);
+    assert!(world.body(bob).velocity().y < -0.1);
+    for _ in 0..300 {
+        world.step(DT);
+        longest = longest.max(world.body(bob).position.length());
+    }
+    println!("rope of 1 m: longest {longest:.5} m");
+    assert!(longest < 1.0 + 2e-3 && longest > 0.99, "{longest} m");
+}
+
+#[test]
+fn bad_descriptions_get_typed_errors() {
+    let mut world = world();
+    let a = ball(&mut world, DVec3::ZERO, 0.1, 1.0);
+    let b = ball(&mut world, DVec3::X, 0.1, 1.0);
+    let wall = fixed_point(&mut world, DVec3::Y);
+    let floor = fixed_point(&mut world, DVec3::Z);
+    let cases = [
+        (
+            JointDesc::ball(a, BodyId(99), DVec3::ZERO),
+            JointError::NoSuchBody(99),
+        ),
+        (
+            JointDesc::ball(a, a, DVec3::ZERO),
+            JointError::SameBody(a.0),
+        ),
+        (
+            JointDesc::ball(a, b, DVec3::NAN),
+            JointError::NotFinite("anchor_a"),
+        ),
+        (
+            JointDesc::hinge(a, b, DVec3::ZERO, DVec3::ZERO),
+            JointError::ZeroAxis,
+        ),
+        (
+            JointDesc::hinge(a, b, DVec3::ZERO, DVec3::Z).with_limits(1.0, -1.0),
+            JointError::LimitsOutOfOrder { lo: 1.0, hi: -1.0 },
+        ),
+        (
+            JointDesc::distance(a, b, DVec3::ZERO, DVec3::X).with_spring(-1.0, 1.0),
+            JointError::Negative {
+                field: "spring.hertz",
+                value: -1.0,
+            },
+        ),
+        (
+            JointDesc::distance(a, b, DVec3::ZERO, DVec3::X).with_spring(1.0, -0.5),
+            JointError::Negative {
+                field: "spring.damping_ratio",
+                value: -0.5,
+            },
+        ),
+        (
+            JointDesc::ball(wall, floor, DVec3::ZERO),
+            JointError::NoDynamicBody,
+        ),
+        (
+            JointDesc::distance(a, b, DVec3::X, DVec3::X),
+            JointError::ZeroLength,
+        ),
+    ];
+    for (desc, error) in cases {
+        assert_eq!(world.add_joint(desc), Err(error));
+    }
+    world.remove_body(b).unwrap();
+    assert_eq!(
+        world.add_joint(JointDesc::ball(a, b, DVec3::ZERO)),
+        Err(JointError::NoSuchBody(b.0))
+    );
+    assert_eq!(
+        world.remove_joint(JointId(7)),
+        Err(JointError::NoSuchJoint(7))
+    );
+}
+
+#[test]
+fn removing_a_body_removes_its_joints() {
+    let mut world = world();
+    let pivot = fixed_point(&mut world, DVec3::ZERO);
+    let a = ball(&mut world, DVec3::X, 0.1, 1.0);
+    let b = ball(&mut world, DVec3::X * 2.0, 0.1, 1.0);
+    let first = world
+        .add_joint(JointDesc::ball(pivot, a, DVec3::ZERO))
+        .unwrap();
+    let second = world
+        .add_joint(JointDesc::ball(a, b, DVec3::X * 1.5))
+        .unwrap();
+    world.remove_body(a).unwrap();
+    assert!(world.joint(first).is_none() && world.joint(second).is_none());
+    assert_eq!(world.joint_count(), 0);
+    // b falls freely now.
+    for _ in 0..30 {
+        world.step(DT);
+    }
+    assert!(world.body(b).position.y < -1.0);
+}
+
+#[test]
+fn the_classic_pipeline_refuses_joints_and_the_reaction_holds_the_bob() {
+    let (mut world, _) = pendulum(0.0);
+    for _ in 0..60 {
+        world.step(DT);
+    }
+    let joint = world.joints().next().unwrap().1;
+    let force = joint.reaction_force;
+    println!("hanging bob: reaction {force:?} N");
+    assert!((force - DVec3::new(0.0, G, 0.0)).length() < 1e-3, "{force}");
+    world.settings.pipeline = Pipeline::Classic;
+    assert_eq!(world.try_step(DT), Err(StepError::JointsNeedSoft(1)));
+}
+
+#[test]
+fn joined_bodies_sleep_and_wake_together() {
+    let mut world = World::default();
+    world.forces.push(EnvironmentForce::earth_gravity());
+    let pivot = fixed_point(&mut world, DVec3::ZERO);
+    let a = ball(&mut world, DVec3::new(0.0, -0.5, 0.0), 0.1, 1.0);
+    let b = ball(&mut world, DVec3::new(0.0, -1.0, 0.0), 0.1, 1.0);
+    world
+        .add_joint(JointDesc::ball(pivot, a, DVec3::ZERO))
+        .unwrap();
+    world
+        .add_joint(JointDesc::ball(a, b, DVec3::new(0.0, -0.75, 0.0)))
+        .unwrap();
+    for _ in 0..120 {
+        world.step(DT);
+    }
+    assert!(world.body(a).sleeping && world.body(b).sleeping);
+    let at = world.body(b).position;
+    world.body_mut(b).apply_impulse_at(DVec3::X, at);
+    world.step(DT);
+    assert!(!world.body(a).sleeping, "waking b woke a");
+    assert!(world.body(a).velocity().length() > 0.0);
+}
+
+#[test]
+fn a_saved_world_with_joints_continues_bit_for_bit() {
+    let (mut world, bob) = pendulum(1.0);
+    for _ in 0..30 {
+        world.step(DT);
+    }
+    let text = world.to_snapshot().to_ron();
+    let snapshot = rigid::physics::WorldSnapshot::from_ron(&text, "saved").unwrap();
+    let mut restored = World::from_snapshot(snapshot, "saved").unwrap();
+    for _ in 0..60 {
+        world.step(DT);
+        restored.step(DT);
+    }
+    assert_eq!(world.body(bob), restored.body(bob));
+    // A joint naming a body the snapshot lacks is refused.
+    let mut broken = world.to_snapshot();
+    broken.joints[0].as_mut().unwrap().body_b = BodyId(42);
+    assert!(World::from_snapshot(broken, "broken").is_err());
+    // A snapshot written before joints (no `joints` field) still loads.
+    let old = text.replace(
+        &text[text.find("    joints:").unwrap()..text.rfind(')').unwrap()],
+        "",
+    );
+    let old = rigid::physics::WorldSnapshot::from_ron(&old, "old").unwrap();
+    assert!(old.joints.is_empty());
+}
+
+/// Two overlapping balls joined at their shared centre point: by default the joint switches
+/// their collision off and they stay overlapped; `colliding(true)` lets the contact push.
+#[test]
+fn joined_bodies_collide_only_when_asked() {
+    let contacts_after = |collide: bool| {
+        let mut world = World::default();
+        let a = ball(&mut world, DVec3::ZERO, 0.5, 1.0);
+        let b = ball(&mut world, DVec3::X * 0.5, 0.5, 1.0);
+        let joint = JointDesc::ball(a, b, DVec3::X * 0.25).colliding(collide);
+        world.add_joint(joint).unwrap();
+        world.step(DT);
+        world.contacts().len()
+    };
+    assert_eq!(contacts_after(false), 0);
+    assert_eq!(contacts_after(true), 1);
+}
+
+/// Ids are generational: once a removed body's slot holds a new body, the old id names
+/// nothing a joint could hold, and the new body joins as itself.
+#[test]
+fn a_stale_id_cannot_be_joined() {
+    let mut world = world();
+    let pivot = fixed_point(&mut world, DVec3::ZERO);
+    let old = ball(&mut world, DVec3::X, 0.1, 1.0);
+    world.remove_body(old).unwrap();
+    let new = ball(&mut world, DVec3::X, 0.1, 1.0);
+    assert_eq!(new.index(), old.index(), "the slot is reused");
+    let joint = |id| JointDesc::ball(pivot, id, DVec3::ZERO);
+    assert_eq!(
+        world.add_joint(joint(old)),
+        Err(JointError::NoSuchBody(old.0))
+    );
+    let id = world.add_joint(joint(new)).unwrap();
+    assert_eq!(world.joint(id).unwrap().body_b, new);
+}
