@@ -120,6 +120,16 @@ fn bounce_stack_spin_and_rain_match_goldens() {
     }
 }
 
+/// The scenes of joints and kinematic bodies: the cradle's pulled ball and the chain with its
+/// paddle, which only moves if the simulation drives its script.
+#[test]
+fn cradle_and_chain_match_goldens() {
+    let gpu = gpu();
+    for scene in ["cradle_strings", "chain"] {
+        check_scene_golden(&gpu, scene);
+    }
+}
+
 /// The pyramid once every box sleeps, in the sleep colour: a golden that fails if the tint
 /// is lost.
 #[test]

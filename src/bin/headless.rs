@@ -121,6 +121,7 @@ fn run(args: &Args) -> Result<(), String> {
     let mut progress = Progress::new("steps", args.steps);
     let mut faults = FaultLog::after(&world);
     for step in 1..=args.steps {
+        scene::drive(&start.motions, &mut world, dt);
         world.step(dt);
         if step % args.every == 0 || step == args.steps {
             output.write(&world)?;
@@ -197,6 +198,8 @@ struct Start {
     dt: f64,
     hidden: Vec<bool>,
     materials: Vec<String>,
+    /// The scripts of the scene's kinematic bodies, driven before each step.
+    motions: Vec<scene::ScriptedMotion>,
 }
 
 impl Start {
@@ -212,6 +215,9 @@ impl Start {
             dt: scene.settings.dt,
             hidden: scene.hidden_bodies(),
             materials: scene.material_names(),
+            motions: scene
+                .scripted_motions()
+                .map_err(|error| error.to_string())?,
         })
     }
 
@@ -250,12 +256,22 @@ impl Start {
         Ok(Start {
             world: World::from_snapshot(saved.world, &file).map_err(|error| error.to_string())?,
             label: format!("{} (resumed from {file})", saved.scene),
+            motions: saved_motions(&saved.scene),
             scene: saved.scene,
             dt: saved.dt,
             hidden: saved.hidden,
             materials: saved.materials,
         })
     }
+}
+
+/// A resumed world's scripts come from its scene, when that still loads; they go on from
+/// the world's time.
+fn saved_motions(scene: &str) -> Vec<scene::ScriptedMotion> {
+    let loaded = scene::load(scene).ok();
+    loaded
+        .and_then(|scene| scene.scripted_motions().ok())
+        .unwrap_or_default()
 }
 
 /// Runs a recording through the same `Simulation` the viewer uses, to its last tick.

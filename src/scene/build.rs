@@ -1,21 +1,28 @@
 //! Scene → engine: body descriptions and the `World`.
 
+use glam::DVec3;
+
 use crate::physics::{
-    AddBodyError, BodyDesc, BodyError, EnvironmentForce, MAX_BODIES, Material, Motion, RigidBody,
-    World, WorldSettings,
+    AddBodyError, BodyDesc, BodyError, BodyId, EnvironmentForce, MAX_BODIES, Material, Motion,
+    RigidBody, World, WorldSettings,
 };
 use crate::scene::error::{FieldError, SceneError, body_label};
 use crate::scene::expand;
-use crate::scene::file::{BodySpec, ForceSpec, Scene};
+use crate::scene::file::{BodySpec, ForceSpec, KinematicSpec, Scene};
+use crate::scene::joints::joint_field;
 use crate::scene::material_ref::MaterialRef;
+use crate::scene::script::{self, ScriptedMotion};
 use crate::scene::shapes::{build_rotation, build_shape};
 use crate::scene::validate::{self, check_material, positive, vector};
 
 impl Scene {
     /// A world holding every body of the scene, its forces and its integrator. The time step is
     /// not part of a world: pass `self.settings.dt` to `World::step`.
+    /// Kinematic bodies start at their scripts' poses at t = 0 and with their velocities;
+    /// `scripted_motions` gives what must drive them at each step.
     pub fn build_world(&self) -> Result<World, SceneError> {
         let descs = self.body_descs()?;
+        let joints = self.joint_descs(&descs)?;
         let mut world = World::new(WorldSettings {
             integrator: self.settings.integrator,
             ..WorldSettings::default()
@@ -25,6 +32,13 @@ impl Scene {
             world
                 .add_body(desc)
                 .map_err(|error| self.add_error(error))?;
+        }
+        for joint in joints {
+            // `joint_descs` made the world's own checks; this names the joint should they
+            // ever differ.
+            world
+                .add_joint(joint.desc)
+                .map_err(|e| joint_field(e).in_joint(&self.origin, &joint.label))?;
         }
         Ok(world)
     }
@@ -44,17 +58,32 @@ impl Scene {
     /// Every body the scene makes, generators expanded, each checked. This is the whole
     /// validation of the bodies: `parse` runs it too.
     pub fn body_descs(&self) -> Result<Vec<BodyDesc>, SceneError> {
+        Ok(self.bodies_and_scripts()?.0)
+    }
+
+    /// The scripts of the scene's kinematic bodies, for the world `build_world` makes: call
+    /// `scene::drive` with them before each step.
+    pub fn scripted_motions(&self) -> Result<Vec<ScriptedMotion>, SceneError> {
+        Ok(self.bodies_and_scripts()?.1)
+    }
+
+    fn bodies_and_scripts(&self) -> Result<(Vec<BodyDesc>, Vec<ScriptedMotion>), SceneError> {
         validate::check_scene(self)?;
         let mut descs = Vec::new();
+        let mut scripts = Vec::new();
         for (index, spec) in self.bodies.iter().enumerate() {
             let label = body_label(&spec.name, index);
             let template = self
                 .template(spec)
                 .map_err(|e| e.in_body(&self.origin, &label))?;
             check_engine_body(&template).map_err(|e| e.in_body(&self.origin, &label))?;
+            let first = descs.len();
             descs.extend(instances(spec, &template).map_err(|e| e.in_body(&self.origin, &label))?);
+            if let Some(motion) = spec.kinematic {
+                scripts.extend(start_scripts(motion, first, &mut descs[first..]));
+            }
         }
-        Ok(descs)
+        Ok((descs, scripts))
     }
 
     /// For each body the scene makes (in `build_world` order), whether it is hidden.
@@ -104,20 +133,20 @@ impl Scene {
         if let Some(repeat) = &spec.repeat {
             expand::check(repeat).map_err(|e| e.within("repeat"))?;
         }
+        let (velocity, angular_velocity) = match spec.kinematic {
+            Some(motion) => kinematic_velocities(spec, &motion)?,
+            None => (spec.velocity, spec.angular_velocity),
+        };
         Ok(BodyDesc {
             name: spec.name.clone(),
             shape,
             material,
-            motion: if spec.is_static {
-                Motion::Static
-            } else {
-                Motion::Dynamic
-            },
+            motion: motion_of(spec),
             mass: spec.mass,
             position: spec.position,
             rotation,
-            velocity: spec.velocity,
-            angular_velocity: spec.angular_velocity,
+            velocity,
+            angular_velocity,
         })
     }
 
@@ -138,6 +167,65 @@ impl Scene {
             }),
         }
     }
+}
+
+fn motion_of(spec: &BodySpec) -> Motion {
+    match (spec.is_static, spec.kinematic) {
+        (true, _) => Motion::Static,
+        (false, Some(_)) => Motion::Kinematic,
+        (false, None) => Motion::Dynamic,
+    }
+}
+
+/// A kinematic body's starting velocities: its script's, which `velocity` and
+/// `angular_velocity` may not contradict (nor may `static`).
+fn kinematic_velocities(
+    spec: &BodySpec,
+    motion: &KinematicSpec,
+) -> Result<(DVec3, DVec3), FieldError> {
+    script::check(motion).map_err(|e| e.within("kinematic"))?;
+    if spec.is_static {
+        return Err(FieldError::new(
+            "kinematic",
+            "a body is either static or kinematic, not both",
+        ));
+    }
+    for (field, value) in [
+        ("velocity", spec.velocity),
+        ("angular_velocity", spec.angular_velocity),
+    ] {
+        if value != DVec3::ZERO {
+            return Err(FieldError::new(
+                field,
+                "a kinematic body moves as its script says: give its velocity in kinematic",
+            ));
+        }
+    }
+    Ok(match *motion {
+        KinematicSpec::Velocity { linear, angular } => (linear, angular),
+        KinematicSpec::Sinusoid { .. } => (DVec3::ZERO, DVec3::ZERO),
+    })
+}
+
+/// The scripts of a kinematic body line's copies, `descs`, which start at slot `first`; each
+/// copy is put at its script's pose at t = 0.
+fn start_scripts(
+    motion: KinematicSpec,
+    first: usize,
+    descs: &mut [BodyDesc],
+) -> Vec<ScriptedMotion> {
+    let mut scripts = Vec::with_capacity(descs.len());
+    for (k, desc) in descs.iter_mut().enumerate() {
+        let script = ScriptedMotion {
+            body: BodyId::new(first + k, 0),
+            motion,
+            rest_position: desc.position,
+            rest_rotation: desc.rotation,
+        };
+        (desc.position, desc.rotation) = script.pose_at(0.0);
+        scripts.push(script);
+    }
+    scripts
 }
 
 /// What only the engine can tell: its own checks, which include whether the mass, inertia

@@ -38,6 +38,8 @@ const BUILTIN_SCENES: &[BuiltinScene] = builtin![
     "dzhanibekov",
     "rain",
     "hulls",
+    "cradle_strings",
+    "chain",
 ];
 
 /// Every built-in scene, in menu order.

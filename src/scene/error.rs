@@ -79,6 +79,22 @@ pub enum SceneError {
         message: String,
     },
 
+    /// A joint cannot be made: a body name that names no body or several, a non-finite
+    /// anchor, a zero axis, limits out of order, an option its kind does not have, or any
+    /// other `JointError` of the engine. `joint` is `'name'`, or `#index` (position in
+    /// `joints`); a joint of a `Chain` is `'name'[k]`, the k-th joint it makes (the pin first).
+    #[error("{file}: joint {joint} field '{field}': {message}")]
+    Joint {
+        /// The scene's origin.
+        file: String,
+        /// `'name'`, `#index`, or either followed by `[k]` for a chain's k-th joint.
+        joint: String,
+        /// Path to the value inside the joint: `kind.axis`, `body_b`, `limits`.
+        field: String,
+        /// What is wrong, with the value found.
+        message: String,
+    },
+
     /// The bodies, generators expanded, outnumber `MAX_BODIES`; checked before any is built.
     #[error("{file}: {count} bodies after generators, more than the limit of {limit}")]
     TooManyBodies {
@@ -147,6 +163,15 @@ impl FieldError {
         SceneError::Body {
             file: file.to_owned(),
             body: body.to_owned(),
+            field: self.field,
+            message: self.message,
+        }
+    }
+
+    pub fn in_joint(self, file: &str, joint: &str) -> SceneError {
+        SceneError::Joint {
+            file: file.to_owned(),
+            joint: joint.to_owned(),
             field: self.field,
             message: self.message,
         }

@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 use serde::Deserialize;
 
-use crate::physics::{Integrator, Material};
+use crate::physics::{Integrator, Material, Motor, Spring};
 use crate::scene::material_ref::MaterialRef;
 
 /// A parsed scene. `origin` is the file it came from (or the name given to `parse`); every
@@ -38,6 +38,9 @@ pub struct Scene {
     /// its copies, in generation order.
     #[serde(default)]
     pub bodies: Vec<BodySpec>,
+    /// Joints between bodies named in `bodies` (see [`JointSpec`]), added after every body.
+    #[serde(default)]
+    pub joints: Vec<JointSpec>,
     /// Not read from the file: the file's path, or the `origin` given to `parse`.
     #[serde(skip)]
     pub origin: String,
@@ -141,6 +144,11 @@ pub struct BodySpec {
     /// A static body never moves (infinite mass).
     #[serde(default, rename = "static")]
     pub is_static: bool,
+    /// Makes the body kinematic, moved by a script (see [`KinematicSpec`]); written
+    /// `kinematic: Velocity(…)`, without `Some`. Not with `static`, `velocity` or
+    /// `angular_velocity`: the script gives the motion.
+    #[serde(default)]
+    pub kinematic: Option<KinematicSpec>,
     /// Simulated but not drawn, like a machine's front glass.
     #[serde(default)]
     pub hidden: bool,
@@ -252,4 +260,147 @@ pub enum Repeat {
         /// Horizontal distance between neighbours in a layer and height of a layer, m.
         spacing: (f64, f64),
     },
+}
+
+/// How a kinematic body moves. Its `position` and `rotation` are its pose at rest (t = 0 for
+/// `Velocity`, the centre of the swing for `Sinusoid`).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum KinematicSpec {
+    /// Constant velocities, world axes; the angular one turns the body about its centre of
+    /// mass.
+    Velocity {
+        /// m/s; omitted, zero.
+        #[serde(default)]
+        linear: DVec3,
+        /// rad/s; omitted, zero.
+        #[serde(default)]
+        angular: DVec3,
+    },
+    /// With s(t) = sin(2π `frequency` t + `phase`): the shape's origin is at
+    /// `position + amplitude s(t) axis/|axis|` and the body turned by `angle_amplitude s(t)`
+    /// degrees about `angle_axis` (through the shape's origin), then by `rotation`.
+    Sinusoid {
+        /// Direction of the swing; any non-zero length (unused when `amplitude` is 0).
+        #[serde(default = "unit_x")]
+        axis: DVec3,
+        /// Half the swing's travel, m; finite.
+        #[serde(default)]
+        amplitude: f64,
+        /// Axis of the turn, world; any non-zero length (unused when `angle_amplitude` is 0).
+        #[serde(default = "unit_y")]
+        angle_axis: DVec3,
+        /// Largest turn, degrees; finite.
+        #[serde(default)]
+        angle_amplitude: f64,
+        /// Hz; finite, not negative.
+        frequency: f64,
+        /// Degrees; omitted, 0 (the body starts at its rest pose).
+        #[serde(default)]
+        phase: f64,
+    },
+}
+
+fn unit_x() -> DVec3 {
+    DVec3::X
+}
+
+fn unit_y() -> DVec3 {
+    DVec3::Y
+}
+
+/// One joint, or a chain of them: `(name: "hinge", body_a: "frame", body_b: "door",
+/// kind: Hinge(anchor: (…), axis: (…)), limits: (-90, 0))`. Anchors and axes are world
+/// coordinates in the scene as written (the bodies' starting poses). Bodies are named as the
+/// world names them: a body made by a generator is `name_0`, `name_1`, ….
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpec {
+    /// Names the joint in error messages; optional (errors then give its index, `#2`).
+    #[serde(default)]
+    pub name: String,
+    /// The first body's name; not with `Chain`.
+    #[serde(default)]
+    pub body_a: String,
+    /// The second body's name; limits, motors and reactions are of b relative to a. Not with
+    /// `Chain`.
+    #[serde(default)]
+    pub body_b: String,
+    /// What the joint allows, with its anchors and axis.
+    pub kind: JointKindSpec,
+    /// Hinge: angles of b relative to a, degrees; slider: offsets along the axis, m;
+    /// distance: the least and greatest length, m (a rope). `(lo, hi)` with lo ≤ hi.
+    #[serde(default)]
+    pub limits: Option<(f64, f64)>,
+    /// Hinge or slider motor: `(speed: rad/s or m/s, max_force: N·m or N)`.
+    #[serde(default)]
+    pub motor: Option<Motor>,
+    /// Distance spring toward the length at creation: `(hertz: …, damping_ratio: …)`.
+    #[serde(default)]
+    pub spring: Option<Spring>,
+    /// Whether the two bodies still collide with each other; omitted, false.
+    #[serde(default)]
+    pub colliding: bool,
+}
+
+/// A joint's kind, as the engine's `JointDesc` constructors take it; points are in m.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum JointKindSpec {
+    /// Spherical joint at `anchor`.
+    Ball {
+        /// m
+        anchor: DVec3,
+    },
+    /// Revolute joint at `anchor` about `axis`.
+    Hinge {
+        /// m
+        anchor: DVec3,
+        /// Any non-zero length.
+        axis: DVec3,
+    },
+    /// Prismatic joint through `anchor` along `axis`.
+    Slider {
+        /// m
+        anchor: DVec3,
+        /// Any non-zero length.
+        axis: DVec3,
+    },
+    /// Weld, its reaction measured at `anchor`.
+    Fixed {
+        /// m
+        anchor: DVec3,
+    },
+    /// A rod between `anchor_a` on body a and `anchor_b` on body b, of their distance.
+    Distance {
+        /// m
+        anchor_a: DVec3,
+        /// m; not equal to `anchor_a`.
+        anchor_b: DVec3,
+    },
+    /// A generator: joins the copies `links_0`, `links_1`, … of the generated body `links`,
+    /// each to the next, in generation order (n copies, n − 1 joints; `pin` adds one more).
+    /// A `Ball` joint sits halfway between two links' origins; a `Distance` joint is a rod
+    /// between them. The joint's `limits`, `spring` and `colliding` apply to each joint.
+    Chain {
+        /// The `name` of a body line with a `repeat` making at least 2 copies.
+        links: String,
+        /// `Ball` or `Distance`.
+        joint: ChainJoint,
+        /// A body that holds the first link as a link before it would: with the first two
+        /// links' origins p₀ and p₁, a ball joint at p₀ − (p₁ − p₀)/2, or a rod from
+        /// p₀ − (p₁ − p₀) on the pin to p₀. Omitted, the chain hangs free.
+        #[serde(default)]
+        pin: Option<String>,
+    },
+}
+
+/// The joint between two links of a `Chain`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ChainJoint {
+    /// A ball joint where the links meet.
+    Ball,
+    /// A rod between the links' origins.
+    Distance,
 }

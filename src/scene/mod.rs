@@ -40,6 +40,17 @@
 //! `AxisAngle(axis: (..), degrees: ..)`. Angular velocities are in rad/s. Generators:
 //! `repeat: Grid(count: (nx, ny, nz), spacing: (..), stagger: (..))` and
 //! `repeat: Pyramid(layers: n, spacing: (dx, dy))`; copies are named `name_0`, `name_1`, ….
+//!
+//! A `joints: [...]` list joins bodies named in `bodies` (a generated copy is `name_k`):
+//! `(name, body_a, body_b, kind: Ball(anchor) | Hinge(anchor, axis) | Slider(anchor, axis) |
+//! Fixed(anchor) | Distance(anchor_a, anchor_b), limits, motor, spring, colliding)`, or
+//! `(name, kind: Chain(links, joint: Ball | Distance, pin))` to join the copies of a generated
+//! body in order (see [`JointSpec`]). A body with `kinematic: Velocity(linear, angular)` or
+//! `kinematic: Sinusoid(axis, amplitude, angle_axis, angle_amplitude, frequency, phase)` is
+//! kinematic and scripted: [`Scene::scripted_motions`] gives the scripts, and [`drive`] applies
+//! them before each step (see [`KinematicSpec`]). Joint errors are [`SceneError::Joint`],
+//! naming the joint and the field.
+//!
 //! A scene may make at most [`MAX_BODIES`] bodies; `settings.dt` must lie in [`DT_RANGE`]; a
 //! hull takes at most `MAX_HULL_POINTS` points and a compound at most `MAX_COMPOUND_PARTS`
 //! parts.
@@ -49,9 +60,11 @@ mod builtin;
 mod error;
 mod expand;
 mod file;
+mod joints;
 mod material_ref;
 mod parse;
 mod rain;
+mod script;
 mod shapes;
 mod validate;
 
@@ -60,11 +73,13 @@ use std::path::Path;
 pub use builtin::{BuiltinScene, builtin_scene_names, builtin_scenes, find_builtin};
 pub use error::SceneError;
 pub use file::{
-    BodySpec, Camera, ForceSpec, PartSpec, Repeat, Rotation, Scene, SceneSettings, ShapeSpec,
+    BodySpec, Camera, ChainJoint, ForceSpec, JointKindSpec, JointSpec, KinematicSpec, PartSpec,
+    Repeat, Rotation, Scene, SceneSettings, ShapeSpec,
 };
 pub use material_ref::MaterialRef;
 pub use parse::parse;
 pub use rain::rain_world;
+pub use script::{ScriptedMotion, drive};
 pub use validate::{DT_RANGE, MAX_BODIES, MAX_FRICTION};
 
 /// The scene a viewer opens when told nothing else.

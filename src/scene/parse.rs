@@ -18,8 +18,10 @@ fn options() -> ron::Options {
 pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
     let mut scene = deserialize(text, origin)?;
     scene.origin = origin.to_owned();
-    // Building every body description is the validation: the same code builds the world.
-    scene.body_descs()?;
+    // Building every body and joint description is the validation: the same code builds the
+    // world.
+    let bodies = scene.body_descs()?;
+    scene.joint_descs(&bodies)?;
     Ok(scene)
 }
 
@@ -125,6 +127,12 @@ const VECTOR_FIELDS: &[&str] = &[
     "target",
     "acceleration",
     "axis",
+    "angle_axis",
+    "anchor",
+    "anchor_a",
+    "anchor_b",
+    "linear",
+    "angular",
 ];
 
 fn render_field(segments: &[&Segment]) -> String {

@@ -3,7 +3,7 @@
 use glam::Vec3;
 
 use crate::physics::World;
-use crate::scene;
+use crate::scene::{self, ScriptedMotion};
 
 pub use crate::scene::DEFAULT_SCENE;
 
@@ -27,6 +27,8 @@ pub struct SceneSetup {
     pub hidden: Vec<bool>,
     /// Per body index: the scene's name for its material (the panel edits them by name).
     pub materials: Vec<String>,
+    /// The scripts of the scene's kinematic bodies, driven before each step.
+    pub motions: Vec<ScriptedMotion>,
 }
 
 /// The names of the built-in scenes, in the order the viewer lists them.
@@ -40,6 +42,7 @@ pub fn build(name_or_path: &str) -> Result<SceneSetup, String> {
     let loaded = scene::load(name_or_path).map_err(|e| e.to_string())?;
     let world = loaded.build_world().map_err(|e| e.to_string())?;
     Ok(SceneSetup {
+        motions: loaded.scripted_motions().map_err(|e| e.to_string())?,
         hidden: loaded.hidden_bodies(),
         materials: loaded.material_names(),
         world,

@@ -13,6 +13,7 @@ use crate::physics::collision::broad_phase::UniformGrid;
 use crate::physics::{
     Aabb, BroadPhaseKind, EnvironmentForce, Fault, Material, Motion, RemoveError, RigidBody, World,
 };
+use crate::scene::{self, ScriptedMotion};
 use crate::sim::command::{Command, DT_RANGE, SpawnKind};
 use crate::sim::recording::{FileCommands, RecordedCommand, Recording, RecordingError};
 use crate::sim::saved_world::SavedWorld;
@@ -60,6 +61,8 @@ pub struct Simulation {
     hidden: Vec<bool>,
     /// Per body index: its material's name in the scene (`SPAWNED_MATERIAL` for spawns).
     materials: Vec<String>,
+    /// The scene's scripted kinematic bodies, driven before each step.
+    motions: Vec<ScriptedMotion>,
     history: VecDeque<HistorySample>,
     rate: RateMeter,
     /// The last command that could not be applied, shown by the UI.
@@ -106,6 +109,7 @@ impl Simulation {
             previous: Vec::new(),
             hidden: Vec::new(),
             materials: Vec::new(),
+            motions: Vec::new(),
             history: VecDeque::new(),
             rate: RateMeter::default(),
             message: None,
@@ -285,6 +289,7 @@ impl Simulation {
         self.ticks += 1;
         self.previous = self.world.bodies().iter().map(pose_of).collect();
         let started = Instant::now();
+        scene::drive(&self.motions, &mut self.world, self.settings.dt);
         self.world.step(self.settings.dt);
         self.rate.record(started.elapsed());
         self.sample_history();
@@ -382,7 +387,12 @@ impl Simulation {
         let loaded = SavedWorld::load(path).and_then(|saved| {
             let file = path.display().to_string();
             let world = World::from_snapshot(saved.world, &file).map_err(|e| e.to_string())?;
-            let camera = scenes::build(&saved.scene).map_or(self.camera, |setup| setup.camera);
+            // The scene also gives the scripts of its kinematic bodies, which a world does
+            // not hold; they go on from the saved world's time.
+            let (camera, motions) = scenes::build(&saved.scene)
+                .map_or((self.camera, Vec::new()), |setup| {
+                    (setup.camera, setup.motions)
+                });
             let dt = saved.dt.clamp(DT_RANGE.0, DT_RANGE.1);
             Ok((
                 saved.scene,
@@ -392,6 +402,7 @@ impl Simulation {
                     camera,
                     hidden: saved.hidden,
                     materials: saved.materials,
+                    motions,
                 },
             ))
         });
@@ -420,6 +431,7 @@ impl Simulation {
         self.spawn_boxes = None;
         self.hidden = setup.hidden;
         self.materials = setup.materials;
+        self.motions = setup.motions;
         self.apply_world_settings();
         self.settings.gravity = gravity_of(&self.world);
         if let Some(body) = self.world.bodies().iter().find(|b| b.is_dynamic()) {
