@@ -501,6 +501,7 @@ pub const STRESS: &[&str] = &[
     "hull_rain",
     "wall_smash",
     "joint_grid",
+    "ragdoll_rain",
 ];
 
 pub fn stress(name: &str) -> Option<Stress> {
@@ -512,6 +513,7 @@ pub fn stress(name: &str) -> Option<Stress> {
         "hull_rain" => hull_rain(800),
         "wall_smash" => wall_smash(),
         "joint_grid" => joint_grid(),
+        "ragdoll_rain" => ragdoll_rain(),
         _ => return None,
     })
 }
@@ -917,5 +919,133 @@ fn joint_grid() -> Stress {
         kind: StressKind::Pile,
         box3d: Some("joint_grid"),
         repeats: 3,
+    }
+}
+
+/// The parts of a ragdoll standing with its feet at y = 0, facing +z: each part's shape and
+/// centre. Pelvis, torso, head, then left upper arm and forearm, right upper arm and forearm,
+/// left thigh and shin, right thigh and shin; about 1.76 m tall and 62 kg.
+const RAGDOLL_PARTS: [(ShapeDesc, DVec3); 11] = {
+    const fn capsule(half_height: f64, radius: f64) -> ShapeDesc {
+        ShapeDesc::Capsule {
+            half_height,
+            radius,
+        }
+    }
+    const fn cuboid(x: f64, y: f64, z: f64) -> ShapeDesc {
+        ShapeDesc::Cuboid {
+            half_extents: DVec3::new(x, y, z),
+        }
+    }
+    [
+        (cuboid(0.17, 0.08, 0.1), DVec3::new(0.0, 1.0, 0.0)),
+        (cuboid(0.18, 0.2, 0.11), DVec3::new(0.0, 1.3, 0.0)),
+        (
+            ShapeDesc::Sphere { radius: 0.11 },
+            DVec3::new(0.0, 1.65, 0.0),
+        ),
+        (capsule(0.12, 0.05), DVec3::new(-0.26, 1.3, 0.0)),
+        (capsule(0.12, 0.045), DVec3::new(-0.26, 0.99, 0.0)),
+        (capsule(0.12, 0.05), DVec3::new(0.26, 1.3, 0.0)),
+        (capsule(0.12, 0.045), DVec3::new(0.26, 0.99, 0.0)),
+        (capsule(0.16, 0.07), DVec3::new(-0.1, 0.72, 0.0)),
+        (capsule(0.15, 0.06), DVec3::new(-0.1, 0.3, 0.0)),
+        (capsule(0.16, 0.07), DVec3::new(0.1, 0.72, 0.0)),
+        (capsule(0.15, 0.06), DVec3::new(0.1, 0.3, 0.0)),
+    ]
+};
+
+/// The ball joints of a ragdoll, standing as in `RAGDOLL_PARTS`: the two parts and the anchor.
+/// Spine, neck, shoulders and elbows, hips and knees.
+const RAGDOLL_JOINTS: [(usize, usize, DVec3); 10] = [
+    (0, 1, DVec3::new(0.0, 1.09, 0.0)),
+    (1, 2, DVec3::new(0.0, 1.52, 0.0)),
+    (1, 3, DVec3::new(-0.26, 1.47, 0.0)),
+    (3, 4, DVec3::new(-0.26, 1.15, 0.0)),
+    (1, 5, DVec3::new(0.26, 1.47, 0.0)),
+    (5, 6, DVec3::new(0.26, 1.15, 0.0)),
+    (0, 7, DVec3::new(-0.1, 0.95, 0.0)),
+    (7, 8, DVec3::new(-0.1, 0.5, 0.0)),
+    (0, 9, DVec3::new(0.1, 0.95, 0.0)),
+    (9, 10, DVec3::new(0.1, 0.5, 0.0)),
+];
+
+/// Adds one ragdoll to `bodies` and `joints`, turned as a whole by `rotation` about its
+/// middle (y = 0.9 standing), which is put at `middle`.
+fn ragdoll(
+    bodies: &mut Vec<BodyDesc>,
+    joints: &mut Vec<JointDesc>,
+    middle: DVec3,
+    rotation: DQuat,
+) {
+    const MATERIAL: MaterialDesc = MaterialDesc {
+        density: 1000.0,
+        restitution: 0.0,
+        friction: 0.6,
+    };
+    let place = |p: DVec3| middle + rotation * (p - DVec3::new(0.0, 0.9, 0.0));
+    let first = bodies.len();
+    for (shape, centre) in RAGDOLL_PARTS {
+        bodies.push(BodyDesc {
+            rotation,
+            ..BodyDesc::dynamic(shape, MATERIAL, place(centre))
+        });
+    }
+    for (a, b, anchor) in RAGDOLL_JOINTS {
+        joints.push(JointDesc {
+            a: first + a,
+            b: first + b,
+            anchor: place(anchor),
+        });
+    }
+}
+
+/// A rain of 50 ragdolls (`RAGDOLL_PARTS`, `RAGDOLL_JOINTS`: 550 bodies on 500 ball joints)
+/// onto the floor, for 5 s, sleeping on: two layers of 5 × 5, 2 m apart (a ragdoll turned any
+/// way reaches at most 0.9 m from its middle, so none touch at the start), the lower layer's
+/// middles 1.5 m up and the upper layer's 4 m up and shifted by 1 m in x and z so that its
+/// ragdolls land across the lower ones. Each is turned by a random heading and a random tilt
+/// of up to 90° (PEEL's generator, seed 11), so that they tumble and tangle.
+fn ragdoll_rain() -> Stress {
+    const SIDE: usize = 5;
+    const LAYERS: usize = 2;
+    const SPACING: f64 = 2.0;
+    let mut bodies = vec![floor(BOX3D_BOX)];
+    let mut joints = Vec::new();
+    let mut random = PeelRandom { state: 11 };
+    let start = -((SIDE - 1) as f64) * SPACING / 2.0;
+    for layer in 0..LAYERS {
+        let shift = layer as f64 * SPACING / 2.0;
+        for i in 0..SIDE * SIDE {
+            let middle = DVec3::new(
+                start + (i % SIDE) as f64 * SPACING + shift,
+                1.5 + 2.5 * layer as f64,
+                start + (i / SIDE) as f64 * SPACING + shift,
+            );
+            let heading = std::f64::consts::TAU * (f64::from(random.float()) + 0.5);
+            let tilt = std::f64::consts::PI * f64::from(random.float());
+            let rotation = DQuat::from_rotation_y(heading) * DQuat::from_rotation_x(tilt);
+            ragdoll(&mut bodies, &mut joints, middle, rotation);
+        }
+    }
+    Stress {
+        name: "ragdoll_rain",
+        title: format!(
+            "ragdoll_rain: {} ragdolls of {} bodies (boxes, capsules, a sphere), {} ball joints",
+            LAYERS * SIDE * SIDE,
+            RAGDOLL_PARTS.len(),
+            joints.len()
+        ),
+        scene: SceneDesc {
+            bodies,
+            hulls: Vec::new(),
+            joints,
+            steps: steps_for(5.0),
+            sleeping: true,
+        },
+        region: Region::above_floor(50.0, 50.0),
+        kind: StressKind::Pile,
+        box3d: None,
+        repeats: 5,
     }
 }
