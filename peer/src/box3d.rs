@@ -1,6 +1,6 @@
 //! Box3D's own benchmark program (`benchmark/main.c` of erincatto/box3d), run on the scenes
-//! it shares with ours (`large_pyramid`, `many_pyramids`, `convex_pile`), when the
-//! environment variable `BOX3D_DIR` names a Box3D checkout built with cmake:
+//! it shares with ours (`large_pyramid`, `many_pyramids`, `convex_pile`, `joint_grid`), when
+//! the environment variable `BOX3D_DIR` names a Box3D checkout built with cmake:
 //!
 //! ```text
 //! cmake -S . -B build -DBOX3D_BENCHMARKS=ON -DBOX3D_SAMPLES=OFF -DCMAKE_BUILD_TYPE=Release
@@ -12,7 +12,7 @@
 //! engines' runs. Each run builds the world, takes one untimed step ("initial step can be
 //! expensive and skew benchmark"), then times the remaining steps at dt = 1/60 with 4
 //! substeps, and prints `run 0 : <ms> (ms)`, the wall time of those steps together. Its step
-//! count is the scene's own (200, 100, 500), fixed in the program. It also writes
+//! count is the scene's own (200, 100, 500, 100), fixed in the program. It also writes
 //! `<name>.csv` into its working directory, so it runs in a scratch directory.
 
 use std::path::{Path, PathBuf};

@@ -4,7 +4,7 @@
 //! off where the scene says so.
 
 use glam::{DMat3, DVec3};
-use rigid::physics::{BodyDesc, BodyId, EnvironmentForce, Material, Shape, World};
+use rigid::physics::{BodyDesc, BodyId, EnvironmentForce, JointDesc, Material, Shape, World};
 
 use crate::Engine;
 use crate::scenes::{self, SceneDesc, ShapeDesc};
@@ -81,7 +81,11 @@ impl Engine for Ours {
                     .with_material(material);
                 world.add_body(desc).expect("scene bodies are valid")
             })
-            .collect();
+            .collect::<Vec<_>>();
+        for joint in &scene.joints {
+            let desc = JointDesc::ball(ids[joint.a], ids[joint.b], joint.anchor);
+            world.add_joint(desc).expect("scene joints are valid");
+        }
         Ours { world, ids }
     }
 

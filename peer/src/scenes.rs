@@ -75,8 +75,29 @@ impl BodyDesc {
     }
 }
 
+/// One joint as both engines should build it: a ball (spherical) joint between bodies `a`
+/// and `b` (indices into `SceneDesc::bodies`) at the world point `anchor` of the start,
+/// where the two bodies are held together. Joined bodies do not collide with each other, in
+/// either engine.
+#[derive(Clone, Copy, Debug)]
+pub struct JointDesc {
+    pub a: usize,
+    pub b: usize,
+    pub anchor: DVec3,
+}
+
+impl JointDesc {
+    /// The anchor in the frame of body `i` (`a` or `b`) as it starts: its offset from the
+    /// body's centre, in the body's axes. Each engine keeps it fixed in the body.
+    pub fn local_anchor(&self, bodies: &[BodyDesc], i: usize) -> DVec3 {
+        let body = &bodies[i];
+        body.rotation.inverse() * (self.anchor - body.position)
+    }
+}
+
 /// A scene: its bodies (indices into `bodies` name the same body in both engines), the point
-/// clouds of its hulls, how long it runs and whether bodies may sleep.
+/// clouds of its hulls, the joints between its bodies, how long it runs and whether bodies
+/// may sleep.
 #[derive(Clone, Debug)]
 pub struct SceneDesc {
     pub bodies: Vec<BodyDesc>,
@@ -84,6 +105,7 @@ pub struct SceneDesc {
     /// (so that a hull body's centre of mass, which both engines report as its position, is
     /// also its shape's origin).
     pub hulls: Vec<Vec<DVec3>>,
+    pub joints: Vec<JointDesc>,
     pub steps: usize,
     /// Whether bodies may fall asleep (each engine with its own default thresholds); off, no
     /// body ever sleeps in either engine.
@@ -104,6 +126,7 @@ pub fn pyramid() -> SceneDesc {
     SceneDesc {
         bodies,
         hulls: Vec::new(),
+        joints: Vec::new(),
         steps: steps_for(10.0),
         sleeping: true,
     }
@@ -233,6 +256,7 @@ pub fn rain(count: usize) -> (SceneDesc, Bin) {
     let scene = SceneDesc {
         bodies,
         hulls: Vec::new(),
+        joints: Vec::new(),
         steps: steps_for(5.0),
         sleeping: true,
     };
@@ -329,6 +353,7 @@ pub fn bounce(drop_height: f64, restitution: f64) -> SceneDesc {
     SceneDesc {
         bodies: vec![floor(material), ball],
         hulls: Vec::new(),
+        joints: Vec::new(),
         steps: steps_for(6.0),
         sleeping: true,
     }
@@ -358,6 +383,7 @@ pub fn slide(speed: f64) -> SceneDesc {
     SceneDesc {
         bodies: vec![floor(FRICTION_CASE), block],
         hulls: Vec::new(),
+        joints: Vec::new(),
         steps: steps_for(3.0),
         sleeping: true,
     }
@@ -377,6 +403,7 @@ pub fn roll(speed: f64) -> SceneDesc {
     SceneDesc {
         bodies: vec![floor(FRICTION_CASE), ball],
         hulls: Vec::new(),
+        joints: Vec::new(),
         steps: steps_for(2.0),
         sleeping: true,
     }
@@ -404,6 +431,21 @@ impl Region {
         }
     }
 
+    /// The box around the bodies' start positions, widened by `margin` on every side: for a
+    /// scene with no floor, a body that ends further than that from where any body started
+    /// is lost.
+    fn around(bodies: &[BodyDesc], margin: f64) -> Self {
+        let (min, max) = bodies
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(min, max), b| {
+                (min.min(b.position), max.max(b.position))
+            });
+        Region {
+            min: min - margin,
+            max: max + margin,
+        }
+    }
+
     pub fn holds(&self, p: DVec3) -> bool {
         p.is_finite() && p.cmpge(self.min).all() && p.cmple(self.max).all()
     }
@@ -428,7 +470,8 @@ pub enum StressKind {
     /// A stack that should stand still: drift (the largest distance any box moved from its
     /// start), and, when given, the sideways (x, z) displacement of the apex body.
     Stack { apex: Option<usize> },
-    /// A pile or rain with no answer to compare against: overlap, lost and awake only.
+    /// A pile, rain or hanging grid with no answer to compare against: overlap, lost and
+    /// awake only (and, as in every scene with joints, the joints' largest separation).
     Pile,
     /// A wall hit by a ball (body `ball`): how many boxes moved more than 0.5 m.
     Smash { ball: usize },
@@ -457,6 +500,8 @@ pub const STRESS: &[&str] = &[
     "convex_pile",
     "hull_rain",
     "wall_smash",
+    "joint_grid",
+    "ragdoll_rain",
 ];
 
 pub fn stress(name: &str) -> Option<Stress> {
@@ -467,6 +512,8 @@ pub fn stress(name: &str) -> Option<Stress> {
         "convex_pile" => convex_pile(),
         "hull_rain" => hull_rain(800),
         "wall_smash" => wall_smash(),
+        "joint_grid" => joint_grid(),
+        "ragdoll_rain" => ragdoll_rain(),
         _ => return None,
     })
 }
@@ -554,6 +601,7 @@ fn large_pyramid() -> Stress {
         scene: SceneDesc {
             bodies,
             hulls: Vec::new(),
+            joints: Vec::new(),
             steps: 200,
             sleeping: false,
         },
@@ -593,6 +641,7 @@ fn many_pyramids() -> Stress {
         scene: SceneDesc {
             bodies,
             hulls: Vec::new(),
+            joints: Vec::new(),
             steps: 100,
             sleeping: false,
         },
@@ -691,6 +740,7 @@ fn convex_pile() -> Stress {
         scene: SceneDesc {
             bodies,
             hulls: vec![points],
+            joints: Vec::new(),
             steps: 500,
             sleeping: true,
         },
@@ -736,6 +786,7 @@ fn hull_rain(count: usize) -> Stress {
         scene: SceneDesc {
             bodies,
             hulls,
+            joints: Vec::new(),
             steps: steps_for(5.0),
             sleeping: true,
         },
@@ -796,6 +847,7 @@ fn wall_smash() -> Stress {
         scene: SceneDesc {
             bodies,
             hulls: Vec::new(),
+            joints: Vec::new(),
             steps: steps_for(3.0),
             sleeping: true,
         },
@@ -803,5 +855,197 @@ fn wall_smash() -> Stress {
         kind: StressKind::Smash { ball },
         box3d: None,
         repeats: 11,
+    }
+}
+
+/// Box3D's `joint_grid` (`CreateJointGrid`): a 100 × 100 grid of spheres of radius 0.4, 1 m
+/// apart in the vertical plane z = 0, column k at x = k and row i at y = −i, the top row
+/// (i = 0) static. Each sphere is joined by a ball joint to the one above it and to the one on
+/// its left, at the midpoint between them: Box3D's 19 800 joints less the 99 between two
+/// static spheres of the top row, 19 701. Box3D's default density (1000) and
+/// friction; sleeping off, as there; 100 steps. The grid starts hanging straight down, so the
+/// scene measures how the joints hold a 99-link chain's weight, not a fall. Box3D also filters
+/// the spheres out of colliding with each other; neither engine here has filtering set up,
+/// but spheres 1 m apart with radius 0.4 do not touch while the grid hangs.
+fn joint_grid() -> Stress {
+    const N: usize = 100;
+    let material = MaterialDesc {
+        density: 1000.0,
+        ..BOX3D_BOX
+    };
+    let sphere = ShapeDesc::Sphere { radius: 0.4 };
+    let index = |k: usize, i: usize| k * N + i;
+    let mut bodies = Vec::with_capacity(N * N);
+    let mut joints = Vec::with_capacity(2 * N * (N - 1));
+    for k in 0..N {
+        for i in 0..N {
+            let position = DVec3::new(k as f64, -(i as f64), 0.0);
+            bodies.push(if i == 0 {
+                BodyDesc::fixed(sphere, material, position)
+            } else {
+                BodyDesc::dynamic(sphere, material, position)
+            });
+            let mut join = |a: usize, offset: DVec3| {
+                joints.push(JointDesc {
+                    a,
+                    b: index(k, i),
+                    anchor: position + offset,
+                });
+            };
+            if i > 0 {
+                join(index(k, i - 1), DVec3::new(0.0, 0.5, 0.0));
+            }
+            // Box3D also joins the static spheres of the top row to each other; such a joint
+            // holds nothing, and ours refuses it.
+            if k > 0 && i > 0 {
+                join(index(k - 1, i), DVec3::new(-0.5, 0.0, 0.0));
+            }
+        }
+    }
+    Stress {
+        name: "joint_grid",
+        title: format!(
+            "joint_grid (Box3D): {N} × {N} spheres r 0.4, {} ball joints, top row static",
+            joints.len()
+        ),
+        region: Region::around(&bodies, 10.0),
+        scene: SceneDesc {
+            bodies,
+            hulls: Vec::new(),
+            joints,
+            steps: 100,
+            sleeping: false,
+        },
+        kind: StressKind::Pile,
+        box3d: Some("joint_grid"),
+        repeats: 3,
+    }
+}
+
+/// The parts of a ragdoll standing with its feet at y = 0, facing +z: each part's shape and
+/// centre. Pelvis, torso, head, then left upper arm and forearm, right upper arm and forearm,
+/// left thigh and shin, right thigh and shin; about 1.76 m tall and 62 kg.
+const RAGDOLL_PARTS: [(ShapeDesc, DVec3); 11] = {
+    const fn capsule(half_height: f64, radius: f64) -> ShapeDesc {
+        ShapeDesc::Capsule {
+            half_height,
+            radius,
+        }
+    }
+    const fn cuboid(x: f64, y: f64, z: f64) -> ShapeDesc {
+        ShapeDesc::Cuboid {
+            half_extents: DVec3::new(x, y, z),
+        }
+    }
+    [
+        (cuboid(0.17, 0.08, 0.1), DVec3::new(0.0, 1.0, 0.0)),
+        (cuboid(0.18, 0.2, 0.11), DVec3::new(0.0, 1.3, 0.0)),
+        (
+            ShapeDesc::Sphere { radius: 0.11 },
+            DVec3::new(0.0, 1.65, 0.0),
+        ),
+        (capsule(0.12, 0.05), DVec3::new(-0.26, 1.3, 0.0)),
+        (capsule(0.12, 0.045), DVec3::new(-0.26, 0.99, 0.0)),
+        (capsule(0.12, 0.05), DVec3::new(0.26, 1.3, 0.0)),
+        (capsule(0.12, 0.045), DVec3::new(0.26, 0.99, 0.0)),
+        (capsule(0.16, 0.07), DVec3::new(-0.1, 0.72, 0.0)),
+        (capsule(0.15, 0.06), DVec3::new(-0.1, 0.3, 0.0)),
+        (capsule(0.16, 0.07), DVec3::new(0.1, 0.72, 0.0)),
+        (capsule(0.15, 0.06), DVec3::new(0.1, 0.3, 0.0)),
+    ]
+};
+
+/// The ball joints of a ragdoll, standing as in `RAGDOLL_PARTS`: the two parts and the anchor.
+/// Spine, neck, shoulders and elbows, hips and knees.
+const RAGDOLL_JOINTS: [(usize, usize, DVec3); 10] = [
+    (0, 1, DVec3::new(0.0, 1.09, 0.0)),
+    (1, 2, DVec3::new(0.0, 1.52, 0.0)),
+    (1, 3, DVec3::new(-0.26, 1.47, 0.0)),
+    (3, 4, DVec3::new(-0.26, 1.15, 0.0)),
+    (1, 5, DVec3::new(0.26, 1.47, 0.0)),
+    (5, 6, DVec3::new(0.26, 1.15, 0.0)),
+    (0, 7, DVec3::new(-0.1, 0.95, 0.0)),
+    (7, 8, DVec3::new(-0.1, 0.5, 0.0)),
+    (0, 9, DVec3::new(0.1, 0.95, 0.0)),
+    (9, 10, DVec3::new(0.1, 0.5, 0.0)),
+];
+
+/// Adds one ragdoll to `bodies` and `joints`, turned as a whole by `rotation` about its
+/// middle (y = 0.9 standing), which is put at `middle`.
+fn ragdoll(
+    bodies: &mut Vec<BodyDesc>,
+    joints: &mut Vec<JointDesc>,
+    middle: DVec3,
+    rotation: DQuat,
+) {
+    const MATERIAL: MaterialDesc = MaterialDesc {
+        density: 1000.0,
+        restitution: 0.0,
+        friction: 0.6,
+    };
+    let place = |p: DVec3| middle + rotation * (p - DVec3::new(0.0, 0.9, 0.0));
+    let first = bodies.len();
+    for (shape, centre) in RAGDOLL_PARTS {
+        bodies.push(BodyDesc {
+            rotation,
+            ..BodyDesc::dynamic(shape, MATERIAL, place(centre))
+        });
+    }
+    for (a, b, anchor) in RAGDOLL_JOINTS {
+        joints.push(JointDesc {
+            a: first + a,
+            b: first + b,
+            anchor: place(anchor),
+        });
+    }
+}
+
+/// A rain of 50 ragdolls (`RAGDOLL_PARTS`, `RAGDOLL_JOINTS`: 550 bodies on 500 ball joints)
+/// onto the floor, for 5 s, sleeping on: two layers of 5 × 5, 2 m apart (a ragdoll turned any
+/// way reaches at most 0.9 m from its middle, so none touch at the start), the lower layer's
+/// middles 1.5 m up and the upper layer's 4 m up and shifted by 1 m in x and z so that its
+/// ragdolls land across the lower ones. Each is turned by a random heading and a random tilt
+/// of up to 90° (PEEL's generator, seed 11), so that they tumble and tangle.
+fn ragdoll_rain() -> Stress {
+    const SIDE: usize = 5;
+    const LAYERS: usize = 2;
+    const SPACING: f64 = 2.0;
+    let mut bodies = vec![floor(BOX3D_BOX)];
+    let mut joints = Vec::new();
+    let mut random = PeelRandom { state: 11 };
+    let start = -((SIDE - 1) as f64) * SPACING / 2.0;
+    for layer in 0..LAYERS {
+        let shift = layer as f64 * SPACING / 2.0;
+        for i in 0..SIDE * SIDE {
+            let middle = DVec3::new(
+                start + (i % SIDE) as f64 * SPACING + shift,
+                1.5 + 2.5 * layer as f64,
+                start + (i / SIDE) as f64 * SPACING + shift,
+            );
+            let heading = std::f64::consts::TAU * (f64::from(random.float()) + 0.5);
+            let tilt = std::f64::consts::PI * f64::from(random.float());
+            let rotation = DQuat::from_rotation_y(heading) * DQuat::from_rotation_x(tilt);
+            ragdoll(&mut bodies, &mut joints, middle, rotation);
+        }
+    }
+    Stress {
+        name: "ragdoll_rain",
+        title: format!(
+            "ragdoll_rain: {} ragdolls of {} bodies (boxes, capsules, a sphere), {} ball joints",
+            LAYERS * SIDE * SIDE,
+            RAGDOLL_PARTS.len(),
+            joints.len()
+        ),
+        scene: SceneDesc {
+            bodies,
+            hulls: Vec::new(),
+            joints,
+            steps: steps_for(5.0),
+            sleeping: true,
+        },
+        region: Region::above_floor(50.0, 50.0),
+        kind: StressKind::Pile,
+        box3d: None,
+        repeats: 5,
     }
 }

@@ -1,8 +1,8 @@
-//! The stress scenes (`scenes::STRESS`): large stacks and piles, three of them Box3D's
-//! benchmarks. Each runs at both engines' defaults and at equal substeps (our 4 substeps
-//! against rapier's 4 solver iterations, its default, and Box3D's 4 substeps), the engines
-//! taking turns, and reports the median ms per step with the same error figures measured the
-//! same way for both engines.
+//! The stress scenes (`scenes::STRESS`): large stacks, piles and a grid of joints, four of
+//! them Box3D's benchmarks. Each runs at both engines' defaults and at equal substeps (our 4
+//! substeps against rapier's 4 solver iterations, its default, and Box3D's 4 substeps), the
+//! engines taking turns, and reports the median ms per step with the same error figures
+//! measured the same way for both engines.
 //!
 //! Times here leave out the first step, as Box3D's benchmark program does (the first step
 //! builds the broad phase and every contact from scratch), so that all three engines time
@@ -36,6 +36,28 @@ fn run_timed<E: Engine>(scene: &SceneDesc, substeps: Option<u32>) -> (E, f64) {
     (engine, ms)
 }
 
+/// The larger of two errors, NaN if either is (which `f64::max` would hide).
+fn worst(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
+}
+
+/// The largest separation of any joint's two anchors where the run ended, each carried by
+/// its body as the engine reports the body's pose: None for a scene without joints.
+fn separation<E: Engine>(engine: &E, scene: &SceneDesc) -> Option<f64> {
+    let anchor = |joint: &scenes::JointDesc, i: usize| {
+        engine.position(i) + engine.orientation(i) * joint.local_anchor(&scene.bodies, i)
+    };
+    let gaps = scene
+        .joints
+        .iter()
+        .map(|j| anchor(j, j.a).distance(anchor(j, j.b)));
+    (!scene.joints.is_empty()).then(|| gaps.fold(0.0, worst))
+}
+
 /// What one engine's run of a stress scene came to.
 struct Figures {
     /// Stacks: the largest distance any box moved from its start, m.
@@ -44,6 +66,9 @@ struct Figures {
     apex_sideways: Option<f64>,
     /// Smash: boxes (every dynamic body but the ball) that moved more than 0.5 m.
     knocked: Option<usize>,
+    /// Scenes with joints: the largest distance between a joint's anchor on one body and its
+    /// anchor on the other, m.
+    separation: Option<f64>,
     overlap: Overlap,
     /// Bodies that left the scene's region or whose position is not finite.
     lost: usize,
@@ -61,14 +86,7 @@ fn figures<E: Engine>(engine: &E, stress: &Stress) -> Figures {
     let (mut drift, mut apex_sideways, mut knocked) = (None, None, None);
     match stress.kind {
         StressKind::Stack { apex } => {
-            // A non-finite position makes the drift NaN, which max would hide: keep it.
-            drift = Some(dynamic.iter().map(|&i| moved(i)).fold(0.0, |a: f64, d| {
-                if d.is_nan() || a.is_nan() {
-                    f64::NAN
-                } else {
-                    a.max(d)
-                }
-            }));
+            drift = Some(dynamic.iter().map(|&i| moved(i)).fold(0.0, worst));
             apex_sideways = apex.map(|i| {
                 let d = engine.position(i) - scene.bodies[i].position;
                 d.x.hypot(d.z)
@@ -95,6 +113,7 @@ fn figures<E: Engine>(engine: &E, stress: &Stress) -> Figures {
         drift,
         apex_sideways,
         knocked,
+        separation: separation(engine, scene),
         overlap,
         lost: dynamic
             .iter()
@@ -117,6 +136,9 @@ impl Figures {
         if let Some(knocked) = self.knocked {
             parts.push(format!("{knocked} boxes moved > 0.5 m"));
         }
+        if let Some(separation) = self.separation {
+            parts.push(format!("joint separation max {:.2} mm", separation * 1e3));
+        }
         parts.push(format!(
             "overlap deepest {:.1} mm, mean {:.2} mm ({} pairs)",
             self.overlap.deepest * 1e3,
@@ -128,9 +150,12 @@ impl Figures {
         parts.join(", ")
     }
 
-    /// The error the ratio column compares: a stack's drift, else the deepest overlap.
+    /// The error the ratio column compares: the joints' separation where there are joints,
+    /// else a stack's drift, else the deepest overlap.
     fn error(&self) -> f64 {
-        self.drift.unwrap_or(self.overlap.deepest)
+        self.separation
+            .or(self.drift)
+            .unwrap_or(self.overlap.deepest)
     }
 }
 
@@ -351,18 +376,24 @@ pub fn report(names: &[&str], opts: &Options) -> String {
     };
     format!(
         "### Stress scenes\n{smoke}\n\
-         Large stacks and piles, three of them Box3D's benchmarks (`shared/benchmarks.c` of \
-         erincatto/box3d: `large_pyramid`, `many_pyramids`, `convex_pile`, rebuilt from its \
-         description in `peer/src/scenes.rs`), each at both engines' defaults and at equal \
+         Large stacks, piles and a grid of joints, four of them Box3D's benchmarks \
+         (`shared/benchmarks.c` of erincatto/box3d: `large_pyramid`, `many_pyramids`, \
+         `convex_pile`, `joint_grid`, rebuilt from its description in `peer/src/scenes.rs`; \
+         joints are ball joints, ours and rapier's impulse joints at its defaults with contacts \
+         between the joined bodies off, as ours), each at both engines' defaults and at equal \
          substeps. Times: ms per step over all steps but the first (as Box3D's program times \
          them), median of the runs with the engines taking turns ({repeats}). \
          Figures, measured the same way for both engines on the poses each reports: drift, \
          the largest distance any box moved from its start (stacks; `large_pyramid` and \
-         pyramid20 also the apex box's final sideways displacement); the overlap at the end \
-         (as in the rain rows); bodies lost (centre outside the scene's region, i.e. off the \
-         floor or more than 1 m below its top, out of the bin for hull_rain, or not finite); \
+         pyramid20 also the apex box's final sideways displacement); the joint separation, the \
+         largest distance at the end between a joint's anchor carried by one body and by the \
+         other (scenes with joints); the overlap at the end (as in the rain rows, leaving out \
+         joined pairs); bodies lost (centre outside the scene's region, i.e. off the \
+         floor or more than 1 m below its top, out of the bin for hull_rain, more than 10 m out \
+         of the box of the start for joint_grid, or not finite); \
          and the dynamic bodies awake at the end. The error ratio is ours / rapier's, of the \
-         drift for stacks and of the deepest overlap otherwise. Sleeping is as each row says, \
+         joint separation where there are joints, of the drift for stacks and of the deepest \
+         overlap otherwise. Sleeping is as each row says, \
          with each engine's own thresholds; with it off, no body of either engine sleeps.\n\n\
          {}\n\n{table}",
         box3d_notes.join("\n")

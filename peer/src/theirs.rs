@@ -2,7 +2,8 @@
 //! description, at its default `IntegrationParameters` apart from dt (and, for the sweep of
 //! work against error, the number of solver iterations). Where the scene has sleeping off,
 //! every body is built with `can_sleep(false)`. Hulls are rapier's own convex hull of the
-//! scene's points (`SharedShape::convex_hull`), built once per cloud and shared.
+//! scene's points (`SharedShape::convex_hull`), built once per cloud and shared. Joints are
+//! impulse joints (`ImpulseJointSet`, solved with the contacts), not multibody joints.
 //!
 //! rapier's math is glam 0.33 (through `glamx`) and ours is glam 0.34: vectors cross over
 //! component by component.
@@ -11,7 +12,7 @@ use glam::{DMat3, DQuat, DVec3};
 use rapier3d_f64::math::{Pose, Rotation, Vector};
 use rapier3d_f64::prelude::{
     CoefficientCombineRule, ColliderBuilder, IntegrationParameters, PhysicsWorld, RigidBodyBuilder,
-    RigidBodyHandle, SharedShape,
+    RigidBodyHandle, SharedShape, SphericalJointBuilder,
 };
 
 use crate::Engine;
@@ -103,7 +104,16 @@ impl Engine for Theirs {
                     .restitution_combine_rule(RESTITUTION_RULE);
                 world.insert(body, collider).0
             })
-            .collect();
+            .collect::<Vec<_>>();
+        for joint in &scene.joints {
+            // An impulse joint at rapier's defaults, but for contacts between the two bodies,
+            // which rapier keeps and ours (and Box3D) turn off.
+            let builder = SphericalJointBuilder::new()
+                .local_anchor1(to_rapier(joint.local_anchor(&scene.bodies, joint.a)))
+                .local_anchor2(to_rapier(joint.local_anchor(&scene.bodies, joint.b)))
+                .contacts_enabled(false);
+            world.insert_impulse_joint(handles[joint.a], handles[joint.b], builder);
+        }
         Theirs { world, handles }
     }
 
