@@ -314,24 +314,7 @@ fn solve_slider(
         along.solve([a, b], 0.0, bound, &mut impulses.motor, pass);
     }
     if let Some((lo, hi)) = joint.limits {
-        along.solve(
-            [a, b],
-            offset - lo,
-            Bound::AtLeast,
-            &mut impulses.lower,
-            pass,
-        );
-        let back = LinearRow {
-            n: -g.axis,
-            ..along
-        };
-        back.solve(
-            [a, b],
-            hi - offset,
-            Bound::AtLeast,
-            &mut impulses.upper,
-            pass,
-        );
+        solve_linear_limits(along, [a, b], offset, [Some(lo), Some(hi)], impulses, pass);
     }
     let error = rotation_error(joint, a, b);
     solve_angular([a, b], DVec3::ZERO, error, &mut impulses.angular, pass);
@@ -385,20 +368,36 @@ fn solve_distance(
         let c = length - joint.length;
         row.solve([a, b], c, Bound::Spring(soft), &mut impulses.along, pass);
     }
-    if limits.0 > 0.0 {
+    // A rope's lower limit of 0 and an open upper one hold nothing.
+    let lower = (limits.0 > 0.0).then_some(limits.0);
+    let upper = limits.1.is_finite().then_some(limits.1);
+    solve_linear_limits(row, [a, b], length, [lower, upper], impulses, pass);
+}
+
+/// The rows that keep `value`, measured along `row`, at or above the lower bound and at or
+/// below the upper one (each when given): the slider's offset and the rope's length.
+fn solve_linear_limits(
+    row: LinearRow,
+    [a, b]: [&mut BodyView; 2],
+    value: f64,
+    [lower, upper]: [Option<f64>; 2],
+    impulses: &mut JointImpulses,
+    pass: RowPass,
+) {
+    if let Some(lo) = lower {
         row.solve(
             [a, b],
-            length - limits.0,
+            value - lo,
             Bound::AtLeast,
             &mut impulses.lower,
             pass,
         );
     }
-    if limits.1.is_finite() {
+    if let Some(hi) = upper {
         let back = LinearRow { n: -row.n, ..row };
         back.solve(
             [a, b],
-            limits.1 - length,
+            hi - value,
             Bound::AtLeast,
             &mut impulses.upper,
             pass,
