@@ -9,8 +9,9 @@ use crate::physics::dynamics::body::BodyId;
 use crate::physics::joints::desc::{JointDesc, JointError, JointId};
 use crate::physics::joints::joint::Joint;
 
-/// What the joints tie together, derived from the joint list whenever it changes.
-#[derive(Clone, Debug, Default)]
+/// What the joints tie together: grown joint by joint as joints are added, derived from the
+/// joint list again when one is removed.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub(super) struct JointLinks {
     /// The slots of each joint's bodies, for the islands: joined bodies sleep and wake
     /// together.
@@ -24,13 +25,19 @@ impl JointLinks {
     pub(super) fn of(joints: &[Option<Joint>]) -> JointLinks {
         let mut links = JointLinks::default();
         for joint in joints.iter().flatten() {
-            let (a, b) = (joint.body_a.index() as u32, joint.body_b.index() as u32);
-            links.links.push((a, b));
-            if !joint.collide_connected {
-                links.unjoined.insert((a.min(b), a.max(b)));
-            }
+            links.add(joint);
         }
         links
+    }
+
+    /// Takes in one more joint: adding joints one by one costs each the same, where deriving
+    /// the links again made building a scene of n joints cost n².
+    fn add(&mut self, joint: &Joint) {
+        let (a, b) = (joint.body_a.index() as u32, joint.body_b.index() as u32);
+        self.links.push((a, b));
+        if !joint.collide_connected {
+            self.unjoined.insert((a.min(b), a.max(b)));
+        }
     }
 
     pub(super) fn links(&self) -> &[(u32, u32)] {
@@ -71,8 +78,9 @@ impl World {
         }
         let joint = Joint::new(&desc, a, b);
         let id = JointId(self.joints.len() as u32);
+        self.joint_links.add(&joint);
         self.joints.push(Some(joint));
-        self.joints_changed(&[desc.body_a, desc.body_b]);
+        self.wake_joined(&[desc.body_a, desc.body_b]);
         Ok(id)
     }
 
@@ -120,6 +128,11 @@ impl World {
     /// The links are derived again, and the joined bodies woken and looked at again.
     fn joints_changed(&mut self, bodies: &[BodyId]) {
         self.joint_links = JointLinks::of(&self.joints);
+        self.wake_joined(bodies);
+    }
+
+    /// Bodies whose joints changed wake and are looked at again.
+    fn wake_joined(&mut self, bodies: &[BodyId]) {
         for id in bodies {
             let body = &mut self.bodies[id.index()];
             if body.sleeping {
@@ -127,5 +140,50 @@ impl World {
             }
             self.awake_set.touch(id.index());
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::JointLinks;
+    use crate::physics::dynamics::body::BodyDesc;
+    use crate::physics::geometry::shape::Shape;
+    use crate::physics::joints::desc::JointDesc;
+    use crate::physics::world::World;
+
+    /// The links grown joint by joint are the ones derived from the whole list, through
+    /// adds and removals.
+    #[test]
+    fn links_grown_joint_by_joint_are_the_links_of_the_list() {
+        let mut world = World::default();
+        let ids: Vec<_> = (0..6)
+            .map(|k| {
+                let desc = BodyDesc::dynamic(Shape::sphere(0.25)).at(DVec3::X * k as f64);
+                world.add_body(desc).expect("a valid ball")
+            })
+            .collect();
+        let mut joints = Vec::new();
+        for (k, pair) in ids.windows(2).enumerate() {
+            let desc = JointDesc::ball(pair[0], pair[1], DVec3::X * (k as f64 + 0.5));
+            joints.push(
+                world
+                    .add_joint(desc.colliding(k % 2 == 0))
+                    .expect("a valid joint"),
+            );
+            assert_eq!(world.joint_links, JointLinks::of(&world.joints));
+        }
+        assert_eq!(
+            world.joint_links.unjoined.len(),
+            2,
+            "joints 1 and 3 do not collide"
+        );
+        world.remove_joint(joints[1]).expect("joint 1 exists");
+        assert_eq!(world.joint_links, JointLinks::of(&world.joints));
+        assert_eq!(world.joint_count(), 4);
+        let desc = JointDesc::distance(ids[0], ids[5], DVec3::ZERO, DVec3::X * 5.0);
+        world.add_joint(desc).expect("a valid joint");
+        assert_eq!(world.joint_links, JointLinks::of(&world.joints));
     }
 }
