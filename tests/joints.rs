@@ -264,6 +264,65 @@ fn a_limited_hinge_holds_under_a_push() {
     }
 }
 
+/// A door on a hinge with limits past half a turn (−1 and 4 rad) pushed by 100 N·m: it stops
+/// at 4 rad, which a hinge angle read in (−π, π] never reaches (the door would swing on
+/// through the limit), and the joint's angle agrees with the door's own turn.
+#[test]
+fn a_hinge_limit_past_half_a_turn_holds() {
+    let mut world = World::default();
+    let frame = fixed_point(&mut world, DVec3::new(0.0, 0.0, -1.0));
+    let door = BodyDesc::dynamic(Shape::cuboid(DVec3::new(0.5, 1.0, 0.05)))
+        .at(DVec3::new(0.5, 0.0, 0.0))
+        .with_mass(20.0);
+    let door = world.add_body(door).unwrap();
+    let hinge = JointDesc::hinge(frame, door, DVec3::ZERO, DVec3::Y).with_limits(-1.0, 4.0);
+    let hinge = world.add_joint(hinge).unwrap();
+    let mut reached = 0.0_f64;
+    for _ in 0..240 {
+        world.body_mut(door).torque = DVec3::new(0.0, 100.0, 0.0);
+        world.step(DT);
+        let angle = world.joint(hinge).unwrap().angle;
+        let x = world.body(door).orientation.x_axis;
+        let turn = (-x.z).atan2(x.x);
+        let difference = (angle - turn) / std::f64::consts::TAU;
+        assert!(
+            (difference - difference.round()).abs() < 1e-9,
+            "joint angle {angle} rad, door turned {turn} rad"
+        );
+        reached = reached.max(angle);
+    }
+    let last = world.joint(hinge).unwrap().angle;
+    println!("hinge limited at 4 rad pushed by 100 N·m: reached {reached:.4} rad, ended {last:.4}");
+    assert!((reached - 4.0).abs() < 0.01, "reached {reached} rad");
+    assert!((last - 4.0).abs() < 0.01, "ended at {last} rad");
+}
+
+/// A wheel driven at 10 rad/s for 2 s has turned about 20 rad by its hinge's angle: the
+/// angle counts whole turns.
+#[test]
+fn a_spinning_hinge_counts_whole_turns() {
+    let mut world = World::default();
+    let frame = fixed_point(&mut world, DVec3::new(0.0, 0.0, -1.0));
+    let wheel = world.add_body(BodyDesc::dynamic(Shape::cylinder(0.05, 0.5)).with_mass(1.0));
+    let wheel = wheel.unwrap();
+    let hinge = JointDesc::hinge(frame, wheel, DVec3::ZERO, DVec3::Z).with_motor(10.0, 1000.0);
+    let hinge = world.add_joint(hinge).unwrap();
+    let mut turned = 0.0;
+    for _ in 0..120 {
+        world.step(DT);
+        turned += world.body(wheel).angular_velocity().z * DT;
+    }
+    let angle = world.joint(hinge).unwrap().angle;
+    println!(
+        "wheel at 10 rad/s for 2 s: hinge angle {angle:.4} rad, spin integrated {turned:.4} rad"
+    );
+    assert!(
+        (angle - turned).abs() < 0.01 * turned,
+        "{angle} rad against {turned} rad"
+    );
+    assert!(angle > 19.0, "{angle} rad");
+}
+
 #[test]
 fn a_slider_keeps_its_line_and_limits() {
     let mut world = world();

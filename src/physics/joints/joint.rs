@@ -65,6 +65,11 @@ pub struct Joint {
     pub spring: Option<Spring>,
     /// Whether the two bodies collide with each other.
     pub collide_connected: bool,
+    /// A hinge's angle, rad: b's turn about the axis relative to a since creation, counted
+    /// through whole turns (a wheel's keeps growing), so that limits beyond ±π and a
+    /// limit near π hold. Zero for the other kinds.
+    #[serde(default)]
+    pub angle: f64,
     /// What the rows ended the last step with.
     pub impulses: JointImpulses,
     /// The force the joint put on b in the last step, N, world (a receives the opposite).
@@ -104,6 +109,7 @@ impl Joint {
             motor: desc.motor,
             spring: desc.spring,
             collide_connected: desc.collide_connected,
+            angle: 0.0,
             impulses: JointImpulses::default(),
             reaction_force: DVec3::ZERO,
             reaction_torque: DVec3::ZERO,
@@ -148,6 +154,9 @@ impl Joint {
         }
         let i = &self.impulses;
         let scalars = [i.across[0], i.across[1], i.along, i.lower, i.upper, i.motor];
+        if !self.angle.is_finite() {
+            return Err(format!("angle must be finite, got {}", self.angle));
+        }
         if !self.length.is_finite() || self.length <= 0.0 && self.kind == JointKind::Distance {
             return Err(format!(
                 "length must be finite and positive, got {}",

@@ -196,6 +196,7 @@ pub(crate) fn finish(
             continue;
         };
         joint.impulses = c.joint.impulses;
+        joint.angle = c.joint.angle;
         joint.reaction_force = b.linear_impulse / h;
         joint.reaction_torque = (b.angular_impulse - rb.cross(b.linear_impulse)) / h;
     }
@@ -238,9 +239,9 @@ fn solve_joint(joint: &mut Joint, [a, b]: [&mut BodyView; 2], pass: RowPass) {
             solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass);
         }
         JointKind::Hinge => {
-            let angle = hinge_angle(joint, a, b);
+            joint.angle = hinge_angle(joint, a, b);
             let (limits, motor) = (joint.limits, joint.motor);
-            axial_rows([a, b], g.axis, angle, limits, motor, impulses, pass);
+            axial_rows([a, b], g.axis, joint.angle, limits, motor, impulses, pass);
             let error = g.axis.cross(b.orientation * joint.local_axis_b);
             solve_angular([a, b], g.axis, error, &mut impulses.angular, pass);
             solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass);
@@ -416,12 +417,21 @@ fn rotation_error(joint: &Joint, a: &BodyView, b: &BodyView) -> DVec3 {
     2.0 * DVec3::new(error.x, error.y, error.z)
 }
 
-/// The hinge's angle, rad in (−π, π]: b's turn about the axis since creation.
+/// The hinge's angle, rad: b's turn about the axis since creation, the turn measured in
+/// (−π, π] carried on from `Joint::angle` through whole turns. A pass turns a hinge by far
+/// less than half a turn (that would take 1 500 rad/s at 8 substeps of 1/60 s).
 fn hinge_angle(joint: &Joint, a: &BodyView, b: &BodyView) -> f64 {
     let axis = a.orientation * joint.local_axis_a;
     let ref_a = a.orientation * joint.local_reference_a;
     let ref_b = b.orientation * joint.local_reference_b;
-    axis.dot(ref_a.cross(ref_b)).atan2(ref_a.dot(ref_b))
+    let measured = axis.dot(ref_a.cross(ref_b)).atan2(ref_a.dot(ref_b));
+    joint.angle + wrapped(measured - joint.angle)
+}
+
+/// `angle` brought into (−π, π] by whole turns.
+fn wrapped(angle: f64) -> f64 {
+    let turns = (angle / std::f64::consts::TAU).round();
+    angle - turns * std::f64::consts::TAU
 }
 
 /// Adds the impulses the joint holds to the views, along the current directions (a warm
