@@ -323,6 +323,92 @@ fn a_spinning_hinge_counts_whole_turns() {
     assert!(angle > 19.0, "{angle} rad");
 }
 
+/// The wheel of `motor_spin` (1 kg, radius 0.5 m, 0.1 m thick, turning about a diameter
+/// through its centre: I = m (3r² + t²)/12) on a hinge about z with a servo toward
+/// `target` rad; its angle at every step for `steps` steps, with `load` N·m turning it back.
+fn servo_angles(
+    target: f64,
+    hertz: f64,
+    damping: f64,
+    max: f64,
+    load: f64,
+    steps: usize,
+) -> Vec<f64> {
+    let mut world = World::default();
+    let frame = fixed_point(&mut world, DVec3::new(0.0, 0.0, -1.0));
+    let wheel = world.add_body(BodyDesc::dynamic(Shape::cylinder(0.05, 0.5)).with_mass(1.0));
+    let wheel = wheel.unwrap();
+    let servo = JointDesc::hinge(frame, wheel, DVec3::ZERO, DVec3::Z)
+        .with_servo(target, hertz, damping, max);
+    let hinge = world.add_joint(servo).unwrap();
+    (0..steps)
+        .map(|_| {
+            world.body_mut(wheel).torque = DVec3::new(0.0, 0.0, -load);
+            world.step(DT);
+            world.joint(hinge).unwrap().angle
+        })
+        .collect()
+}
+
+/// Critically damped (ζ = 1, 2 Hz), a servo turns the wheel to 1 rad without overshooting
+/// by more than 1 % and holds it there within 1 mrad after 3 s.
+#[test]
+fn a_critically_damped_servo_reaches_its_angle() {
+    let angles = servo_angles(1.0, 2.0, 1.0, 1000.0, 0.0, 180);
+    let peak = angles.iter().copied().fold(f64::MIN, f64::max);
+    let last = *angles.last().unwrap();
+    println!("servo to 1 rad, 2 Hz, ζ = 1: peak {peak:.5} rad, after 3 s {last:.6} rad");
+    assert!(peak < 1.01, "overshot to {peak} rad");
+    assert!((last - 1.0).abs() < 1e-3, "{last} rad after 3 s");
+}
+
+/// Undamped (ζ = 0), a 2 Hz servo swings the wheel about its target with a period of
+/// 1/2 s (the wheel's centre is on the axis, so the servo's spring is I ω² with the
+/// wheel's own I): within 2 %, measured over the crossings of the target in 3 s.
+#[test]
+fn an_undamped_servo_swings_at_its_frequency() {
+    let angles = servo_angles(0.5, 2.0, 0.0, 1000.0, 0.0, 180);
+    let crossings: Vec<f64> = (1..angles.len())
+        .filter(|&k| (angles[k - 1] - 0.5) * (angles[k] - 0.5) < 0.0)
+        .map(|k| {
+            let (x0, x1) = (angles[k - 1] - 0.5, angles[k] - 0.5);
+            (k as f64 + x0 / (x0 - x1)) * DT
+        })
+        .collect();
+    let (first, last) = (crossings[0], *crossings.last().unwrap());
+    let period = 2.0 * (last - first) / (crossings.len() - 1) as f64;
+    let amplitude = angles[120..]
+        .iter()
+        .map(|a| (a - 0.5).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "undamped 2 Hz servo: period {period:.5} s of 0.5, amplitude after 2 s {amplitude:.4} rad of 0.5"
+    );
+    assert!((period - 0.5).abs() < 0.02 * 0.5, "period {period} s");
+}
+
+/// Below its most torque a 5 Hz servo holds a 10 N·m load at the spring's deflection
+/// −τ / (I ω²) (within 1 %); above it, it gives way.
+#[test]
+fn a_servo_holds_a_load_at_its_deflection_and_gives_way_above_its_torque() {
+    let inertia = (3.0 * 0.5 * 0.5 + 0.1 * 0.1) / 12.0;
+    let omega = std::f64::consts::TAU * 5.0;
+    let deflection = -10.0 / (inertia * omega * omega);
+    let held = *servo_angles(0.0, 5.0, 1.0, 20.0, 10.0, 120).last().unwrap();
+    let lost = *servo_angles(0.0, 5.0, 1.0, 5.0, 10.0, 120).last().unwrap();
+    println!(
+        "servo of 20 N·m under 10 N·m: {held:.5} rad (spring: {deflection:.5}); of 5 N·m: {lost:.4} rad"
+    );
+    assert!(
+        (held - deflection).abs() < 0.01 * deflection.abs(),
+        "held at {held} rad"
+    );
+    assert!(
+        lost < -1.0,
+        "the overloaded servo only gave way to {lost} rad"
+    );
+}
+
 #[test]
 fn a_slider_keeps_its_line_and_limits() {
     let mut world = world();
@@ -350,6 +436,30 @@ fn a_slider_keeps_its_line_and_limits() {
 
 /// A cantilever of two 1 kg bars, 1 m each, welded end to end to a wall and to each other,
 /// under gravity and a 0.5 N·m twist on the outer bar: each weld's relative pose must hold.
+/// A 2 kg block on a level slider with a critically damped 2 Hz servo toward 0.3 m gets there
+/// (within 1 mm after 3 s) and stays on its line.
+#[test]
+fn a_slider_servo_reaches_its_offset() {
+    let mut world = World::default();
+    let rail = fixed_point(&mut world, DVec3::ZERO);
+    let block = world.add_body(BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.1))).with_mass(2.0));
+    let block = block.unwrap();
+    let slider =
+        JointDesc::slider(rail, block, DVec3::ZERO, DVec3::X).with_servo(0.3, 2.0, 1.0, 100.0);
+    world.add_joint(slider).unwrap();
+    for _ in 0..180 {
+        world.step(DT);
+    }
+    let p = world.body(block).position;
+    println!(
+        "slider servo to 0.3 m: at {:.5} m, {:.2e} m off the line",
+        p.x,
+        p.y.hypot(p.z)
+    );
+    assert!((p.x - 0.3).abs() < 1e-3, "at {} m", p.x);
+    assert!(p.y.hypot(p.z) < 1e-6);
+}
+
 #[test]
 fn a_weld_keeps_the_relative_pose() {
     let mut world = world();
@@ -452,6 +562,27 @@ fn bad_descriptions_get_typed_errors() {
         (
             JointDesc::ball(wall, floor, DVec3::ZERO),
             JointError::NoDynamicBody,
+        ),
+        (
+            JointDesc::hinge(a, b, DVec3::ZERO, DVec3::Z)
+                .with_motor(1.0, 1.0)
+                .with_servo(0.5, 2.0, 1.0, 1.0),
+            JointError::MotorAndServo,
+        ),
+        (
+            JointDesc::ball(a, b, DVec3::ZERO).with_servo(0.5, 2.0, 1.0, 1.0),
+            JointError::Unsupported("servo"),
+        ),
+        (
+            JointDesc::slider(a, b, DVec3::ZERO, DVec3::X).with_servo(f64::NAN, 2.0, 1.0, 1.0),
+            JointError::NotFinite("servo.target"),
+        ),
+        (
+            JointDesc::hinge(a, b, DVec3::ZERO, DVec3::Z).with_servo(0.5, 2.0, 1.0, -1.0),
+            JointError::Negative {
+                field: "servo.max_force",
+                value: -1.0,
+            },
         ),
         (
             JointDesc::distance(a, b, DVec3::X, DVec3::X),

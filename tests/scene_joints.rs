@@ -155,7 +155,11 @@ fn joint_options_reach_the_engine_in_its_units() {
             kind: Hinge(anchor: (0.0, 0.5, 0.0), axis: (0.0, 2.0, 0.0)),
             motor: (speed: 1.5, max_force: 20.0), colliding: true),
            (body_a: "ball_0", body_b: "ball_1", kind: Distance(anchor_a: (0.0, 1.0, 0.0),
-            anchor_b: (0.5, 1.0, 0.0)), limits: (0.2, 0.6), spring: (hertz: 3.0, damping_ratio: 0.5))"#,
+            anchor_b: (0.5, 1.0, 0.0)), limits: (0.2, 0.6), spring: (hertz: 3.0, damping_ratio: 0.5)),
+           (body_a: "top", body_b: "ball_2", kind: Hinge(anchor: (1.0, 1.0, 0.0), axis: (0.0, 0.0, 1.0)),
+            servo: (target: 30.0, hertz: 4.0, damping_ratio: 1.0, max_force: 5.0)),
+           (body_a: "top", body_b: "door", kind: Slider(anchor: (0.4, 0.5, 0.0), axis: (1.0, 0.0, 0.0)),
+            servo: (target: 0.25, hertz: 2.0, damping_ratio: 0.7, max_force: 50.0))"#,
     );
     let world = parse(&text).build_world().unwrap();
     let joints: Vec<_> = world.joints().map(|(_, j)| *j).collect();
@@ -173,6 +177,14 @@ fn joint_options_reach_the_engine_in_its_units() {
         joints[1].spring.map(|s| (s.hertz, s.damping_ratio)),
         Some((3.0, 0.5))
     );
+    // A hinge servo's target in degrees becomes radians; a slider's stays in metres.
+    let servo = joints[2].servo.unwrap();
+    assert!((servo.target - PI / 6.0).abs() < 1e-15);
+    assert_eq!(
+        (servo.hertz, servo.damping_ratio, servo.max_force),
+        (4.0, 1.0, 5.0)
+    );
+    assert_eq!(joints[3].servo.map(|s| s.target), Some(0.25));
 }
 
 #[test]

@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 use serde::Deserialize;
 
-use crate::physics::{Integrator, Material, Motor, Spring};
+use crate::physics::{Integrator, Material, Motor, Servo, Spring};
 use crate::scene::material_ref::MaterialRef;
 
 /// A parsed scene. `origin` is the file it came from (or the name given to `parse`); every
@@ -335,6 +335,10 @@ pub struct JointSpec {
     /// Hinge or slider motor: `(speed: rad/s or m/s, max_force: N·m or N)`.
     #[serde(default)]
     pub motor: Option<Motor>,
+    /// Hinge or slider servo, not with a motor: `(target: degrees or m, hertz: …,
+    /// damping_ratio: …, max_force: N·m or N)`.
+    #[serde(default)]
+    pub servo: Option<Servo>,
     /// Distance spring toward the length at creation: `(hertz: …, damping_ratio: …)`.
     #[serde(default)]
     pub spring: Option<Spring>,

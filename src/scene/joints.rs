@@ -5,7 +5,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use crate::physics::{BodyDesc, BodyId, JointDesc, JointError, Motion};
+use crate::physics::{BodyDesc, BodyId, JointDesc, JointError, Motion, Servo};
 use crate::scene::error::{FieldError, SceneError, body_label};
 use crate::scene::expand;
 use crate::scene::file::{ChainJoint, JointKindSpec, JointSpec, Scene};
@@ -177,6 +177,14 @@ fn with_options(desc: JointDesc, spec: &JointSpec) -> JointDesc {
             false => (lo, hi),
         }),
         motor: spec.motor,
+        servo: spec.servo.map(|s| Servo {
+            target: if hinge {
+                s.target.to_radians()
+            } else {
+                s.target
+            },
+            ..s
+        }),
         spring: spec.spring,
         collide_connected: spec.colliding,
         ..desc
@@ -202,6 +210,7 @@ pub(crate) fn joint_field(error: JointError) -> FieldError {
         JointError::ZeroAxis => "kind.axis",
         JointError::ZeroLength => "kind.anchor_b",
         JointError::LimitsOutOfOrder { .. } => "limits",
+        JointError::MotorAndServo => "servo",
         JointError::SameBody(_) | JointError::NoDynamicBody => "body_b",
         JointError::NoSuchBody(_) | JointError::BodyGone(_) | JointError::NoSuchJoint(_) => {
             "body_a"

@@ -35,6 +35,22 @@ pub struct Motor {
     pub max_force: f64,
 }
 
+/// A servo on a hinge or slider: b is pulled about (rad) or along (m) the axis toward a target
+/// angle or offset by a spring, with at most `max_force`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Servo {
+    /// The angle (hinge, rad, counted through whole turns) or offset (slider, m) of b
+    /// relative to a, from the pose at creation.
+    pub target: f64,
+    /// Natural frequency of the pull, Hz, ≥ 0 (0: no pull).
+    pub hertz: f64,
+    /// Damping ratio of the pull, ≥ 0 (1: critically damped).
+    pub damping_ratio: f64,
+    /// The largest torque (hinge) or force (slider) the servo gives, ≥ 0.
+    pub max_force: f64,
+}
+
 /// A spring along a distance joint, toward the length at creation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -66,6 +82,8 @@ pub struct JointDesc {
     pub limits: Option<(f64, f64)>,
     /// Hinge or slider motor.
     pub motor: Option<Motor>,
+    /// Hinge or slider servo (not with a motor).
+    pub servo: Option<Servo>,
     /// Distance spring.
     pub spring: Option<Spring>,
     /// Whether the two bodies still collide with each other (off by default: a joint's
@@ -84,6 +102,7 @@ impl JointDesc {
             axis: DVec3::Z,
             limits: None,
             motor: None,
+            servo: None,
             spring: None,
             collide_connected: false,
         }
@@ -130,6 +149,24 @@ impl JointDesc {
     /// Sets `motor`: a target `speed` and the largest torque or force `max_force`.
     pub fn with_motor(mut self, speed: f64, max_force: f64) -> Self {
         self.motor = Some(Motor { speed, max_force });
+        self
+    }
+
+    /// Sets `servo`: toward `target` (rad for a hinge, m for a slider) with a spring of
+    /// `hertz` and `damping_ratio`, by at most `max_force` (N·m or N).
+    pub fn with_servo(
+        mut self,
+        target: f64,
+        hertz: f64,
+        damping_ratio: f64,
+        max_force: f64,
+    ) -> Self {
+        self.servo = Some(Servo {
+            target,
+            hertz,
+            damping_ratio,
+            max_force,
+        });
         self
     }
 
@@ -195,6 +232,20 @@ impl JointDesc {
                 return Err(JointError::Unsupported("motor"));
             }
         }
+        if let Some(servo) = self.servo {
+            if !servo.target.is_finite() {
+                return Err(JointError::NotFinite("servo.target"));
+            }
+            check_non_negative("servo.hertz", servo.hertz)?;
+            check_non_negative("servo.damping_ratio", servo.damping_ratio)?;
+            check_non_negative("servo.max_force", servo.max_force)?;
+            if !matches!(self.kind, JointKind::Hinge | JointKind::Slider) {
+                return Err(JointError::Unsupported("servo"));
+            }
+            if self.motor.is_some() {
+                return Err(JointError::MotorAndServo);
+            }
+        }
         if let Some(spring) = self.spring {
             check_non_negative("spring.hertz", spring.hertz)?;
             check_non_negative("spring.damping_ratio", spring.damping_ratio)?;
@@ -227,6 +278,9 @@ pub enum JointError {
     /// No body has this id (or it names a removed body).
     #[error("there is no body {0}")]
     NoSuchBody(u32),
+    /// A joint has a motor and a servo, which would pull against each other.
+    #[error("a joint takes a motor or a servo, not both")]
+    MotorAndServo,
     /// The body was isolated for going non-finite.
     #[error("body {0} no longer takes part in the simulation")]
     BodyGone(u32),

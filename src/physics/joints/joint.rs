@@ -5,7 +5,7 @@
 use glam::{DMat3, DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
-use super::desc::{JointDesc, JointKind, Motor, Spring};
+use super::desc::{JointDesc, JointKind, Motor, Servo, Spring};
 use crate::physics::dynamics::body::{BodyId, RigidBody};
 
 /// The impulses a joint's rows ended the last substep with, N·s (N·m·s for the angular ones).
@@ -27,6 +27,8 @@ pub struct JointImpulses {
     pub upper: f64,
     /// The motor.
     pub motor: f64,
+    /// The servo.
+    pub servo: f64,
 }
 
 /// A joint between two bodies, as the world holds it (`World::joint`).
@@ -61,6 +63,9 @@ pub struct Joint {
     pub limits: Option<(f64, f64)>,
     /// As `JointDesc::motor`.
     pub motor: Option<Motor>,
+    /// As `JointDesc::servo`.
+    #[serde(default)]
+    pub servo: Option<Servo>,
     /// As `JointDesc::spring`.
     pub spring: Option<Spring>,
     /// Whether the two bodies collide with each other.
@@ -107,6 +112,7 @@ impl Joint {
             length: desc.anchor_a.distance(desc.anchor_b),
             limits,
             motor: desc.motor,
+            servo: desc.servo,
             spring: desc.spring,
             collide_connected: desc.collide_connected,
             angle: 0.0,
@@ -153,7 +159,15 @@ impl Joint {
             return Err("relative_rotation is not a unit quaternion".into());
         }
         let i = &self.impulses;
-        let scalars = [i.across[0], i.across[1], i.along, i.lower, i.upper, i.motor];
+        let scalars = [
+            i.across[0],
+            i.across[1],
+            i.along,
+            i.lower,
+            i.upper,
+            i.motor,
+            i.servo,
+        ];
         if !self.angle.is_finite() {
             return Err(format!("angle must be finite, got {}", self.angle));
         }
@@ -169,6 +183,7 @@ impl Joint {
         let desc = JointDesc {
             limits: self.limits,
             motor: self.motor,
+            servo: self.servo,
             spring: self.spring,
             ..JointDesc::distance(self.body_a, self.body_b, DVec3::ZERO, DVec3::X)
         };

@@ -163,6 +163,8 @@ pub(crate) enum Bound {
     /// A user's spring of this softness toward C = 0, in both passes (it is a force of the
     /// model, not an error correction).
     Spring(Softness),
+    /// A servo: a user's spring, its accumulated impulse within ±limit.
+    Servo { softness: Softness, limit: f64 },
 }
 
 impl LinearRow {
@@ -213,6 +215,12 @@ pub(crate) fn solve_axial(
     b.push(DVec3::ZERO, axis * impulse);
 }
 
+/// The accumulated impulse of a spring of softness `s` toward C = 0.
+fn spring_impulse(s: Softness, mass: f64, speed: f64, c: f64, old: f64) -> f64 {
+    let bias = s.bias_rate() * c;
+    old - mass * s.mass_scale() * (speed + bias) - s.impulse_scale() * old
+}
+
 /// The impulse a scalar row adds, its accumulated impulse updated and kept in bounds.
 fn scalar_impulse(
     mass: f64,
@@ -228,9 +236,9 @@ fn scalar_impulse(
             speed: target,
             limit,
         } => (old - mass * (speed - target)).clamp(-limit, limit),
-        Bound::Spring(s) => {
-            let bias = s.bias_rate() * c;
-            old - mass * s.mass_scale() * (speed + bias) - s.impulse_scale() * old
+        Bound::Spring(s) => spring_impulse(s, mass, speed, c, old),
+        Bound::Servo { softness, limit } => {
+            spring_impulse(softness, mass, speed, c, old).clamp(-limit, limit)
         }
         Bound::Equal => {
             let (bias, mass_scale, impulse_scale) = pass.equality(c);

@@ -21,6 +21,7 @@ use super::joint::{Joint, JointImpulses, rotation_of};
 use super::rows::{BodyView, Bound, LinearRow, RowPass, solve_angular, solve_axial, solve_point};
 use crate::physics::dynamics::body::RigidBody;
 use crate::physics::solver::lanes::F64x4;
+use crate::physics::solver::soft::Softness;
 use crate::physics::solver::solver_bodies::{FIXED_SLOT, SolverBodies, SolverBody};
 
 /// A joint prepared for one step.
@@ -240,8 +241,8 @@ fn solve_joint(joint: &mut Joint, [a, b]: [&mut BodyView; 2], pass: RowPass) {
         }
         JointKind::Hinge => {
             joint.angle = hinge_angle(joint, a, b);
-            let (limits, motor) = (joint.limits, joint.motor);
-            axial_rows([a, b], g.axis, joint.angle, limits, motor, impulses, pass);
+            let drives = Drives::of(joint, pass);
+            axial_rows([a, b], g.axis, joint.angle, drives, impulses, pass);
             let error = g.axis.cross(b.orientation * joint.local_axis_b);
             solve_angular([a, b], g.axis, error, &mut impulses.angular, pass);
             solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass);
@@ -252,24 +253,56 @@ fn solve_joint(joint: &mut Joint, [a, b]: [&mut BodyView; 2], pass: RowPass) {
     joint.impulses = held;
 }
 
-/// A hinge's motor and limits about `axis`, at the hinge `angle`.
+/// What drives a hinge or slider along its axis in one pass: its motor's and servo's rows
+/// (the servo's with its target as C = 0), and its limits.
+struct Drives {
+    motor: Option<Bound>,
+    servo: Option<(Bound, f64)>,
+    limits: Option<(f64, f64)>,
+}
+
+impl Drives {
+    fn of(joint: &Joint, pass: RowPass) -> Drives {
+        let motor = joint.motor.map(|m| Bound::Motor {
+            speed: m.speed,
+            limit: m.max_force * pass.h,
+        });
+        let servo = joint.servo.filter(|s| s.hertz > 0.0).map(|s| {
+            let softness = Softness::new(s.hertz, s.damping_ratio, pass.h);
+            let limit = s.max_force * pass.h;
+            (Bound::Servo { softness, limit }, s.target)
+        });
+        Drives {
+            motor,
+            servo,
+            limits: joint.limits,
+        }
+    }
+}
+
+/// A hinge's motor, servo and limits about `axis`, at the hinge `angle`.
 fn axial_rows(
     [a, b]: [&mut BodyView; 2],
     axis: DVec3,
     angle: f64,
-    limits: Option<(f64, f64)>,
-    motor: Option<super::desc::Motor>,
+    drives: Drives,
     impulses: &mut JointImpulses,
     pass: RowPass,
 ) {
-    if let Some(m) = motor {
-        let bound = Bound::Motor {
-            speed: m.speed,
-            limit: m.max_force * pass.h,
-        };
+    if let Some(bound) = drives.motor {
         solve_axial([a, b], axis, 0.0, bound, &mut impulses.motor, pass);
     }
-    if let Some((lo, hi)) = limits {
+    if let Some((bound, target)) = drives.servo {
+        solve_axial(
+            [a, b],
+            axis,
+            angle - target,
+            bound,
+            &mut impulses.servo,
+            pass,
+        );
+    }
+    if let Some((lo, hi)) = drives.limits {
         let lower = angle - lo;
         solve_axial(
             [a, b],
@@ -307,14 +340,14 @@ fn solve_slider(
         ra: g.ra + d,
         rb: g.rb,
     };
-    if let Some(m) = joint.motor {
-        let bound = Bound::Motor {
-            speed: m.speed,
-            limit: m.max_force * pass.h,
-        };
+    let drives = Drives::of(joint, pass);
+    if let Some(bound) = drives.motor {
         along.solve([a, b], 0.0, bound, &mut impulses.motor, pass);
     }
-    if let Some((lo, hi)) = joint.limits {
+    if let Some((bound, target)) = drives.servo {
+        along.solve([a, b], offset - target, bound, &mut impulses.servo, pass);
+    }
+    if let Some((lo, hi)) = drives.limits {
         solve_linear_limits(along, [a, b], offset, [Some(lo), Some(hi)], impulses, pass);
     }
     let error = rotation_error(joint, a, b);
@@ -364,8 +397,7 @@ fn solve_distance(
         return;
     }
     if let Some(spring) = joint.spring.filter(|s| s.hertz > 0.0) {
-        let soft =
-            crate::physics::solver::soft::Softness::new(spring.hertz, spring.damping_ratio, pass.h);
+        let soft = Softness::new(spring.hertz, spring.damping_ratio, pass.h);
         let c = length - joint.length;
         row.solve([a, b], c, Bound::Spring(soft), &mut impulses.along, pass);
     }
@@ -446,7 +478,7 @@ fn apply_held_impulses(joint: &Joint, [a, b]: [&mut BodyView; 2]) {
     b.push(DVec3::ZERO, i.angular);
     let (n, ra) = match joint.kind {
         JointKind::Hinge => {
-            let axial = g.axis * (i.motor + i.lower - i.upper);
+            let axial = g.axis * (i.motor + i.servo + i.lower - i.upper);
             a.push(DVec3::ZERO, -axial);
             b.push(DVec3::ZERO, axial);
             return;
@@ -454,7 +486,10 @@ fn apply_held_impulses(joint: &Joint, [a, b]: [&mut BodyView; 2]) {
         JointKind::Slider => {
             let (t1, t2) = g.axis.any_orthonormal_pair();
             let across = t1 * i.across[0] + t2 * i.across[1];
-            (g.axis * (i.motor + i.lower - i.upper) + across, g.ra + d)
+            (
+                g.axis * (i.motor + i.servo + i.lower - i.upper) + across,
+                g.ra + d,
+            )
         }
         JointKind::Distance => {
             let n = d.normalize_or_zero();
