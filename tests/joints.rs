@@ -460,6 +460,81 @@ fn a_slider_servo_reaches_its_offset() {
     assert!(p.y.hypot(p.z) < 1e-6);
 }
 
+/// A 10 kg ball hanging 0.5 m under a ball joint whose breaking force is `factor` times its
+/// weight, for 2 s: the step at which the joint broke (None if it held), the world, and the
+/// ball.
+fn hang_until_broken(factor: f64) -> (Option<usize>, World, BodyId) {
+    let mut world = world();
+    let pivot = fixed_point(&mut world, DVec3::ZERO);
+    let weight = ball(&mut world, DVec3::new(0.0, -0.5, 0.0), 0.05, 10.0);
+    let joint =
+        JointDesc::ball(pivot, weight, DVec3::ZERO).with_breaking(factor * 10.0 * G, f64::INFINITY);
+    let joint = world.add_joint(joint).unwrap();
+    for step in 0..120 {
+        world.step(DT);
+        if world.broken_joints() == [joint] {
+            assert!(
+                world.joint(joint).is_none(),
+                "a broken joint is out of the world"
+            );
+            return (Some(step), world, weight);
+        }
+        assert!(world.broken_joints().is_empty());
+    }
+    (None, world, weight)
+}
+
+/// A joint whose breaking force is 5 % above the weight it carries holds it for 2 s; 5 %
+/// below, it breaks at once and the weight falls freely from then on.
+#[test]
+fn a_joint_breaks_above_its_breaking_force_only() {
+    let (held, world, _) = hang_until_broken(1.05);
+    assert_eq!(held, None, "broke holding 95 % of its breaking force");
+    assert_eq!(world.joint_count(), 1);
+    let (broke, mut world, weight) = hang_until_broken(0.95);
+    let step = broke.expect("held 105 % of its breaking force");
+    println!("a joint carrying 1.05 times its breaking force broke at step {step}");
+    assert!(step < 2, "broke only at step {step}");
+    assert_eq!(world.joint_count(), 0);
+    let before = world.body(weight).velocity().y;
+    for _ in 0..30 {
+        world.step(DT);
+    }
+    let gained = before - world.body(weight).velocity().y;
+    assert!(
+        (gained - G * 0.5).abs() < 1e-9,
+        "fell {gained} m/s faster in 0.5 s"
+    );
+    assert!(
+        world.broken_joints().is_empty(),
+        "listed for the step it broke in only"
+    );
+}
+
+/// A weld holding a 2 kg, 1 m beam out level carries m g L/2 = 9.81 N·m about its anchor: a
+/// breaking torque 5 % above holds, 5 % below breaks.
+#[test]
+fn a_weld_breaks_above_its_breaking_torque_only() {
+    let torque = 2.0 * G * 0.5;
+    for (factor, breaks) in [(1.05, false), (0.95, true)] {
+        let mut world = world();
+        let wall = fixed_point(&mut world, DVec3::ZERO);
+        let beam = BodyDesc::dynamic(Shape::cuboid(DVec3::new(0.5, 0.02, 0.02)))
+            .at(DVec3::new(0.5, 0.0, 0.0))
+            .with_mass(2.0);
+        let beam = world.add_body(beam).unwrap();
+        let weld =
+            JointDesc::fixed(wall, beam, DVec3::ZERO).with_breaking(f64::INFINITY, factor * torque);
+        let weld = world.add_joint(weld).unwrap();
+        let mut broke = false;
+        for _ in 0..120 {
+            world.step(DT);
+            broke |= world.broken_joints().contains(&weld);
+        }
+        assert_eq!(broke, breaks, "breaking torque {factor} × m g L/2");
+    }
+}
+
 #[test]
 fn a_weld_keeps_the_relative_pose() {
     let mut world = world();
@@ -576,6 +651,17 @@ fn bad_descriptions_get_typed_errors() {
         (
             JointDesc::slider(a, b, DVec3::ZERO, DVec3::X).with_servo(f64::NAN, 2.0, 1.0, 1.0),
             JointError::NotFinite("servo.target"),
+        ),
+        (
+            JointDesc::ball(a, b, DVec3::ZERO).with_breaking(0.0, 1.0),
+            JointError::NotPositive {
+                field: "breaking.force",
+                value: 0.0,
+            },
+        ),
+        (
+            JointDesc::ball(a, b, DVec3::ZERO).with_breaking(1.0, f64::NAN),
+            JointError::NotFinite("breaking.torque"),
         ),
         (
             JointDesc::hinge(a, b, DVec3::ZERO, DVec3::Z).with_servo(0.5, 2.0, 1.0, -1.0),

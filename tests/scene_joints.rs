@@ -159,7 +159,8 @@ fn joint_options_reach_the_engine_in_its_units() {
            (body_a: "top", body_b: "ball_2", kind: Hinge(anchor: (1.0, 1.0, 0.0), axis: (0.0, 0.0, 1.0)),
             servo: (target: 30.0, hertz: 4.0, damping_ratio: 1.0, max_force: 5.0)),
            (body_a: "top", body_b: "door", kind: Slider(anchor: (0.4, 0.5, 0.0), axis: (1.0, 0.0, 0.0)),
-            servo: (target: 0.25, hertz: 2.0, damping_ratio: 0.7, max_force: 50.0))"#,
+            servo: (target: 0.25, hertz: 2.0, damping_ratio: 0.7, max_force: 50.0),
+            breaking: (force: 500.0, torque: inf))"#,
     );
     let world = parse(&text).build_world().unwrap();
     let joints: Vec<_> = world.joints().map(|(_, j)| *j).collect();
@@ -185,6 +186,8 @@ fn joint_options_reach_the_engine_in_its_units() {
         (4.0, 1.0, 5.0)
     );
     assert_eq!(joints[3].servo.map(|s| s.target), Some(0.25));
+    let breaking = joints[3].breaking.unwrap();
+    assert_eq!((breaking.force, breaking.torque), (500.0, f64::INFINITY));
 }
 
 #[test]

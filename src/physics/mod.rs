@@ -43,7 +43,9 @@ pub use geometry::hull::{
 };
 pub use geometry::mass::MassProperties;
 pub use geometry::shape::{Pose, Shape, ShapeError};
-pub use joints::{Joint, JointDesc, JointError, JointId, JointKind, Motor, Servo, Spring};
+pub use joints::{
+    Breaking, Joint, JointDesc, JointError, JointId, JointKind, Motor, Servo, Spring,
+};
 pub use query::{CastHit, QueryError, ray_cast, shape_cast};
 pub use snapshot::{SnapshotError, WorldSnapshot};
 pub use solver::classic::{ClassicReport, ClassicSettings, MainLoop};

@@ -35,6 +35,7 @@ use crate::physics::dynamics::integrate::{self, Integrator};
 use crate::physics::dynamics::islands::{self, IslandScratch, SleepSettings};
 use crate::physics::dynamics::slots::Slots;
 use crate::physics::geometry::aabb::Aabb;
+use crate::physics::joints::desc::JointId;
 use crate::physics::joints::joint::Joint;
 use crate::physics::snapshot::{SNAPSHOT_FORMAT, SnapshotError, WorldSnapshot};
 use crate::physics::solver::classic::{self, ClassicContext, ClassicReport, ClassicSettings};
@@ -168,6 +169,8 @@ pub struct World {
     joints: Vec<Option<Joint>>,
     /// What the joints tie together, derived from `joints` (see `joints::JointLinks`).
     joint_links: JointLinks,
+    /// The joints the last step broke and took out.
+    broken_joints: Vec<JointId>,
 }
 
 mod joints;
@@ -336,6 +339,7 @@ impl World {
             pair_budget_fault: None,
             joints: Vec::new(),
             joint_links: JointLinks::default(),
+            broken_joints: Vec::new(),
         }
     }
 
@@ -567,6 +571,7 @@ impl World {
             let mut solve_and_integrate = 0.0;
             times.integrate = timed(on, &mut solve_and_integrate, || self.solve(dt));
             self.arrive_at_kinematic_targets(dt);
+            self.break_overloaded_joints();
             times.solve = (solve_and_integrate - times.integrate).max(0.0);
             timed(on, &mut times.islands, || self.add_quiet_time(dt));
         } else {

@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 use serde::Deserialize;
 
-use crate::physics::{Integrator, Material, Motor, Servo, Spring};
+use crate::physics::{Breaking, Integrator, Material, Motor, Servo, Spring};
 use crate::scene::material_ref::MaterialRef;
 
 /// A parsed scene. `origin` is the file it came from (or the name given to `parse`); every
@@ -342,6 +342,9 @@ pub struct JointSpec {
     /// Distance spring toward the length at creation: `(hertz: …, damping_ratio: …)`.
     #[serde(default)]
     pub spring: Option<Spring>,
+    /// The load that breaks the joint: `(force: N, torque: N·m)`, either may be `inf`.
+    #[serde(default)]
+    pub breaking: Option<Breaking>,
     /// Whether the two bodies still collide with each other; omitted, false.
     #[serde(default)]
     pub colliding: bool,

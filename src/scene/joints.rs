@@ -186,6 +186,7 @@ fn with_options(desc: JointDesc, spec: &JointSpec) -> JointDesc {
             ..s
         }),
         spring: spec.spring,
+        breaking: spec.breaking,
         collide_connected: spec.colliding,
         ..desc
     }
@@ -205,7 +206,9 @@ fn check(desc: &JointDesc, bodies: &[BodyDesc]) -> Result<(), FieldError> {
 /// The engine's error on the field of the scene's joint line it is about.
 pub(crate) fn joint_field(error: JointError) -> FieldError {
     let field = match &error {
-        JointError::NotFinite(field) | JointError::Negative { field, .. } => field,
+        JointError::NotFinite(field)
+        | JointError::Negative { field, .. }
+        | JointError::NotPositive { field, .. } => field,
         JointError::Unsupported(field) => field,
         JointError::ZeroAxis => "kind.axis",
         JointError::ZeroLength => "kind.anchor_b",

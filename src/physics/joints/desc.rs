@@ -51,6 +51,17 @@ pub struct Servo {
     pub max_force: f64,
 }
 
+/// The load at which a joint breaks: the world takes it out after a step in which its
+/// reaction on b exceeded either (infinity: never on that count).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Breaking {
+    /// N, > 0.
+    pub force: f64,
+    /// N·m, about b's anchor, > 0.
+    pub torque: f64,
+}
+
 /// A spring along a distance joint, toward the length at creation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -86,6 +97,8 @@ pub struct JointDesc {
     pub servo: Option<Servo>,
     /// Distance spring.
     pub spring: Option<Spring>,
+    /// When the joint breaks; None: never.
+    pub breaking: Option<Breaking>,
     /// Whether the two bodies still collide with each other (off by default: a joint's
     /// bodies usually overlap at the anchor).
     pub collide_connected: bool,
@@ -104,6 +117,7 @@ impl JointDesc {
             motor: None,
             servo: None,
             spring: None,
+            breaking: None,
             collide_connected: false,
         }
     }
@@ -167,6 +181,13 @@ impl JointDesc {
             damping_ratio,
             max_force,
         });
+        self
+    }
+
+    /// Sets `breaking`: the joint breaks in a step whose reaction exceeds `force` N or
+    /// `torque` N·m (`f64::INFINITY` to break on the other alone).
+    pub fn with_breaking(mut self, force: f64, torque: f64) -> Self {
+        self.breaking = Some(Breaking { force, torque });
         self
     }
 
@@ -246,6 +267,19 @@ impl JointDesc {
                 return Err(JointError::MotorAndServo);
             }
         }
+        if let Some(breaking) = self.breaking {
+            for (field, value) in [
+                ("breaking.force", breaking.force),
+                ("breaking.torque", breaking.torque),
+            ] {
+                if value.is_nan() {
+                    return Err(JointError::NotFinite(field));
+                }
+                if value <= 0.0 {
+                    return Err(JointError::NotPositive { field, value });
+                }
+            }
+        }
         if let Some(spring) = self.spring {
             check_non_negative("spring.hertz", spring.hertz)?;
             check_non_negative("spring.damping_ratio", spring.damping_ratio)?;
@@ -307,7 +341,15 @@ pub enum JointError {
         /// The upper limit given.
         hi: f64,
     },
-    /// A spring or motor value below zero.
+    /// A breaking load that is zero or below.
+    #[error("{field} must be positive, got {value}")]
+    NotPositive {
+        /// The field.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// A spring, servo or motor value below zero.
     #[error("{field} must not be negative, got {value}")]
     Negative {
         /// The field.

@@ -5,7 +5,7 @@
 use glam::{DMat3, DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
-use super::desc::{JointDesc, JointKind, Motor, Servo, Spring};
+use super::desc::{Breaking, JointDesc, JointKind, Motor, Servo, Spring};
 use crate::physics::dynamics::body::{BodyId, RigidBody};
 
 /// The impulses a joint's rows ended the last substep with, N·s (N·m·s for the angular ones).
@@ -66,6 +66,9 @@ pub struct Joint {
     /// As `JointDesc::servo`.
     #[serde(default)]
     pub servo: Option<Servo>,
+    /// As `JointDesc::breaking`.
+    #[serde(default)]
+    pub breaking: Option<Breaking>,
     /// As `JointDesc::spring`.
     pub spring: Option<Spring>,
     /// Whether the two bodies collide with each other.
@@ -113,6 +116,7 @@ impl Joint {
             limits,
             motor: desc.motor,
             servo: desc.servo,
+            breaking: desc.breaking,
             spring: desc.spring,
             collide_connected: desc.collide_connected,
             angle: 0.0,
@@ -120,6 +124,13 @@ impl Joint {
             reaction_force: DVec3::ZERO,
             reaction_torque: DVec3::ZERO,
         }
+    }
+
+    /// Whether the last step's reaction exceeded the joint's breaking load.
+    pub fn overloaded(&self) -> bool {
+        self.breaking.is_some_and(|b| {
+            self.reaction_force.length() > b.force || self.reaction_torque.length() > b.torque
+        })
     }
 
     /// Whether the joint holds body `index`.
@@ -184,6 +195,7 @@ impl Joint {
             limits: self.limits,
             motor: self.motor,
             servo: self.servo,
+            breaking: self.breaking,
             spring: self.spring,
             ..JointDesc::distance(self.body_a, self.body_b, DVec3::ZERO, DVec3::X)
         };

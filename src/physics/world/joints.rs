@@ -106,6 +106,28 @@ impl World {
             .filter_map(|(k, j)| j.as_ref().map(|j| (JointId(k as u32), j)))
     }
 
+    /// The joints that broke in the last step (their reaction exceeded their
+    /// `JointDesc::breaking` load): they are out of the world, and their ids refused.
+    pub fn broken_joints(&self) -> &[JointId] {
+        &self.broken_joints
+    }
+
+    /// Takes out the joints whose reaction in this step exceeded their breaking load.
+    pub(super) fn break_overloaded_joints(&mut self) {
+        self.broken_joints.clear();
+        let mut bodies = Vec::new();
+        for (k, slot) in self.joints.iter_mut().enumerate() {
+            if slot.is_some_and(|j| j.overloaded()) {
+                let joint = slot.take().expect("checked");
+                bodies.extend([joint.body_a, joint.body_b]);
+                self.broken_joints.push(JointId(k as u32));
+            }
+        }
+        if !bodies.is_empty() {
+            self.joints_changed(&bodies);
+        }
+    }
+
     /// How many joints the world holds.
     pub fn joint_count(&self) -> usize {
         self.joint_links.links.len()
