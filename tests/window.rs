@@ -99,3 +99,76 @@ fn viewer_survives_resizing_and_unmapping() {
     let image = assert_rich_screenshot(&run_in_xvfb(&script), &shot);
     assert_eq!(image.dimensions(), (900, 600));
 }
+
+/// Where egui lays out the panel's buttons in a 1280×720 window: "Pause" in the scene row,
+/// "box" in the spawn row (23 pixels lower than in tests/web/smoke.mjs: the desktop panel
+/// has a row of save and load buttons more).
+const PAUSE_BUTTON: (u32, u32) = (33, 59);
+const SPAWN_BOX_BUTTON: (u32, u32) = (90, 302);
+
+/// Fewest pixels of the spawn highlight a new box must add to the frame. The 0.6 m box
+/// covers thousands of pixels in most scenes and about 250 on top of the pyramid, 30 m from
+/// the camera; a box out of view adds none.
+const MIN_SPAWNED_PIXELS: usize = 100;
+
+/// A pixel of the highlight given to new bodies (`SPAWN_COLOR`, magenta) on a lit or shaded
+/// face: red and blue strong, green weak. No palette colour, the sleep colour, the sky or
+/// the panel comes near it.
+fn is_spawn_highlight(pixel: &image::Rgba<u8>) -> bool {
+    let [r, g, b, _] = pixel.0.map(u32::from);
+    r >= 60 && 2 * b >= r && 3 * g < r
+}
+
+fn count_highlight(path: &Path) -> usize {
+    let image = image::open(path)
+        .unwrap_or_else(|e| panic!("no screenshot at {}: {e}", path.display()))
+        .to_rgba8();
+    image.pixels().filter(|p| is_spawn_highlight(p)).count()
+}
+
+/// The viewer on `scene`, paused by a click on "Pause" after its first frames, then (with
+/// `spawn`) a click on the "box" spawn button; it saves its last frame to `shot`.
+fn pause_and_maybe_spawn(scene: &str, spawn: bool, shot: &Path) -> std::process::Output {
+    let click = |(x, y): (u32, u32)| format!("xdotool mousemove --window $w {x} {y} click 1");
+    let spawn_click = if spawn {
+        click(SPAWN_BOX_BUTTON)
+    } else {
+        String::new()
+    };
+    let script = format!(
+        "\"$RIGID\" --scene {scene} --exit-after 6 --screenshot '{}' & pid=$!
+         w=$(xdotool search --sync --name '^rigid$' | head -n 1)
+         sleep 2
+         {}
+         sleep 0.5
+         {spawn_click}
+         wait $pid",
+        shot.display(),
+        click(PAUSE_BUTTON),
+    );
+    run_in_xvfb(&script)
+}
+
+#[test]
+fn a_spawn_button_puts_the_body_in_view_in_every_scene() {
+    if !tools_present("the window test", &missing(&["xvfb-run", "xdotool"])) {
+        return;
+    }
+    let mut failures = Vec::new();
+    for scene in rigid::sim::scene_names() {
+        let before = screenshot_path(&format!("spawn_{scene}_before.png"));
+        let after = screenshot_path(&format!("spawn_{scene}_after.png"));
+        assert_rich_screenshot(&pause_and_maybe_spawn(scene, false, &before), &before);
+        assert_rich_screenshot(&pause_and_maybe_spawn(scene, true, &after), &after);
+        let (without, with) = (count_highlight(&before), count_highlight(&after));
+        println!("{scene}: {without} highlight pixels before the spawn, {with} after");
+        if with < without + MIN_SPAWNED_PIXELS {
+            failures.push(format!(
+                "{scene}: the spawned box adds {} highlight pixels (< {MIN_SPAWNED_PIXELS}); see {}",
+                with.saturating_sub(without),
+                after.display()
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
