@@ -1,10 +1,10 @@
 //! Where the viewer puts a spawned body: where the user is looking. A spawn aimed along a ray
-//! (through the cursor, or through the view's centre for the panel's buttons) starts just off
-//! the first visible surface the ray meets; a ray that meets nothing puts it above the
-//! camera's target, in view. The command carries the point, so a replay never needs the
+//! (through the cursor, or through `VIEW_AIM` for the panel's buttons) starts just off the
+//! first visible surface the ray meets; a ray that meets nothing puts it above the camera's
+//! target, in view. The command carries the point, so a replay never needs the
 //! camera.
 
-use glam::DVec3;
+use glam::{DVec3, Vec2};
 
 use crate::render::{OrbitCamera, Ray};
 use crate::sim::snapshot::BodyPose;
@@ -12,8 +12,13 @@ use crate::sim::spawn::{self, SurfaceHit};
 use crate::sim::{Snapshot, SpawnKind};
 use crate::ui::picking;
 
+/// Where in the view the panel's spawns aim, as fractions of its width and height from the
+/// top-left: a quarter of the height above the middle, so that the body appears above the
+/// scene's centre, not in front of it, and is seen falling.
+pub const VIEW_AIM: Vec2 = Vec2::new(0.5, 0.25);
+
 /// How high above the target, as a fraction of the view's half-height there, a spawn aimed
-/// at nothing appears: in the upper half of the view, so that it is seen falling.
+/// at nothing appears: at the height of `VIEW_AIM`.
 const MISS_LIFT: f32 = 0.5;
 
 /// Where a body of `kind` aimed along `ray` goes, with the bodies drawn at `poses`: just off
@@ -89,9 +94,9 @@ mod tests {
             (Vec3::new(40.0, 90.0, -5.0), Vec3::new(20.0, 60.0, 10.0)),
         ] {
             let camera = OrbitCamera::from_hint(&CameraHint { eye, target });
-            let centre = camera.ray(VIEW / 2.0, VIEW);
-            let spot = spawn_position(SpawnKind::Sphere, &centre, &camera, &snapshot, &poses);
-            assert!(picking::pick(&centre, &snapshot, &poses).is_none());
+            let aim = camera.ray(VIEW * VIEW_AIM, VIEW);
+            let spot = spawn_position(SpawnKind::Sphere, &aim, &camera, &snapshot, &poses);
+            assert!(picking::pick(&aim, &snapshot, &poses).is_none());
             assert!(on_screen(&camera, spot), "{spot} off screen");
             assert!(spot.y > target.y as f64, "{spot} not above the target");
         }

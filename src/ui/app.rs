@@ -188,24 +188,24 @@ impl App {
         self.cursor_ray()
     }
 
-    /// The ray through the middle of the 3D view.
-    fn centre_ray(&self) -> Ray {
+    /// The ray the panel's spawns aim along (see `aim::VIEW_AIM`).
+    fn view_aim_ray(&self) -> Ray {
         let size = Vec2::new(self.viewport.width, self.viewport.height);
-        self.camera.ray(size / 2.0, size)
+        self.camera.ray(size * aim::VIEW_AIM, size)
     }
 
     fn pick_under_cursor(&self, snapshot: &Snapshot, poses: &[BodyPose]) -> Option<Pick> {
         picking::pick(&self.scene_ray()?, snapshot, poses)
     }
 
-    /// Spawns a body of `kind` where the user looks: aimed along `ray`, or along the view's
+    /// Spawns a body of `kind` where the user looks: aimed along `ray`, or above the view's
     /// centre without one (a panel button, or a cursor outside the view). See `ui::aim`.
     fn spawn(&self, kind: SpawnKind, ray: Option<Ray>) {
         let Some(snapshot) = self.sim.latest() else {
             return;
         };
         let poses = current_poses(&snapshot);
-        let ray = ray.unwrap_or_else(|| self.centre_ray());
+        let ray = ray.unwrap_or_else(|| self.view_aim_ray());
         let position = aim::spawn_position(kind, &ray, &self.camera, &snapshot, &poses);
         self.sim.send(Command::Spawn {
             kind,
