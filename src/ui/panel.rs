@@ -87,7 +87,10 @@ impl Panel {
         let mut commands = Vec::new();
         let mut spawns = Vec::new();
         egui::ScrollArea::vertical().show(ui, |ui| {
-            ui.heading("rigid");
+            ui.horizontal(|ui| {
+                ui.heading("rigid");
+                left_world(ui, snapshot);
+            });
             // Errors first: a stopped simulation must be noticed.
             if let Some(message) = &snapshot.message {
                 ui.colored_label(egui::Color32::LIGHT_RED, message);
@@ -105,7 +108,6 @@ impl Panel {
             self.overlay_section(ui);
             ui.separator();
             counters(ui, snapshot, stats);
-            left_world(ui, snapshot);
             ui.separator();
             egui::CollapsingHeader::new("Energy (J)")
                 .default_open(true)
@@ -376,7 +378,7 @@ fn faults(ui: &mut egui::Ui, snapshot: &Snapshot) {
 }
 
 /// How many bodies fell far below the scene and were taken out (see `sim::world_bounds`);
-/// below the counters, so that the buttons above never move.
+/// beside the heading, where it is always in view and moves no button.
 fn left_world(ui: &mut egui::Ui, snapshot: &Snapshot) {
     match snapshot.left_world {
         0 => {}
