@@ -120,10 +120,19 @@ fn is_spawn_highlight(pixel: &image::Rgba<u8>) -> bool {
 }
 
 fn count_highlight(path: &Path) -> usize {
+    highlight_pixels(path).len()
+}
+
+/// Where the highlight's pixels are, (x, y) from the top-left.
+fn highlight_pixels(path: &Path) -> Vec<(u32, u32)> {
     let image = image::open(path)
         .unwrap_or_else(|e| panic!("no screenshot at {}: {e}", path.display()))
         .to_rgba8();
-    image.pixels().filter(|p| is_spawn_highlight(p)).count()
+    image
+        .enumerate_pixels()
+        .filter(|(_, _, p)| is_spawn_highlight(p))
+        .map(|(x, y, _)| (x, y))
+        .collect()
 }
 
 /// The viewer on `scene`, paused by a click on "Pause" after its first frames, then (with
@@ -171,4 +180,52 @@ fn a_spawn_button_puts_the_body_in_view_in_every_scene() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn a_key_spawns_at_the_cursor() {
+    if !tools_present("the window test", &missing(&["xvfb-run", "xdotool"])) {
+        return;
+    }
+    // falling_box: this pixel lies on the platform's top face, left of the cube.
+    let cursor = (640, 500);
+    let shot = screenshot_path("spawn_at_cursor.png");
+    // Without a window manager the window gets the keyboard only once focused; the second
+    // move makes sure the viewer saw the cursor inside its view.
+    let script = format!(
+        "\"$RIGID\" --scene falling_box --exit-after 6 --screenshot '{}' & pid=$!
+         w=$(xdotool search --sync --name '^rigid$' | head -n 1)
+         sleep 2
+         xdotool mousemove --window $w {} {} click 1
+         xdotool windowfocus --sync $w
+         xdotool mousemove --window $w {} {}; sleep 0.3
+         xdotool mousemove --window $w {} {}; sleep 0.3
+         xdotool key 2
+         wait $pid",
+        shot.display(),
+        PAUSE_BUTTON.0,
+        PAUSE_BUTTON.1,
+        cursor.0 - 1,
+        cursor.1 - 1,
+        cursor.0,
+        cursor.1,
+    );
+    assert_rich_screenshot(&run_in_xvfb(&script), &shot);
+    let pixels = highlight_pixels(&shot);
+    let count = pixels.len() as u32;
+    println!("spawn at the cursor: {count} highlight pixels");
+    assert!(
+        count as usize >= MIN_SPAWNED_PIXELS,
+        "{count} highlight pixels"
+    );
+    // The box rests on the face under the cursor: its picture lies just above the cursor.
+    let sum = pixels
+        .iter()
+        .fold((0, 0), |(sx, sy), &(x, y)| (sx + x, sy + y));
+    let centre = (sum.0 / count, sum.1 / count);
+    let off = (centre.0.abs_diff(cursor.0), centre.1.abs_diff(cursor.1));
+    assert!(
+        off.0 < 40 && centre.1 < cursor.1 && off.1 < 100,
+        "the box is drawn around {centre:?}, the cursor was at {cursor:?}"
+    );
 }
