@@ -138,6 +138,33 @@ fn replaying_a_recording_file_reproduces_the_run() {
 }
 
 #[test]
+fn bodies_leaving_the_world_leave_it_the_same_way_in_a_replay() {
+    // Off the pachinko board's side with its tilted gravity: they fall past everything,
+    // 20 m below the board they are taken out, at the same step in the replay.
+    let commands: Vec<_> = (0..4)
+        .map(|i| {
+            let spawn = Command::Spawn {
+                kind: SpawnKind::ALL[i],
+                position: DVec3::new(2.0 + i as f64, 1.0, 0.5),
+                velocity: DVec3::new(0.0, -8.0 * i as f64, 0.0),
+            };
+            (10 * i as u64, spawn)
+        })
+        .collect();
+    let live = drive("pachinko", &commands, 1500);
+    let left = |sim: &Simulation| sim.snapshot(web_time::Instant::now()).left_world;
+    assert!(left(&live) >= 2, "only {} left", left(&live));
+    let recording = live.recording();
+    let mut replayed =
+        Simulation::replaying(&recording, "recording", FileCommands::Refuse).unwrap();
+    while replayed.ticks() < recording.ticks {
+        replayed.step();
+    }
+    assert_eq!(left(&replayed), left(&live));
+    assert_eq!(world_text(&replayed), world_text(&live));
+}
+
+#[test]
 fn a_saved_world_continues_as_if_never_stopped() {
     let path = scratch("pachinko.world.ron");
     let mut spawned = session();

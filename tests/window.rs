@@ -99,3 +99,133 @@ fn viewer_survives_resizing_and_unmapping() {
     let image = assert_rich_screenshot(&run_in_xvfb(&script), &shot);
     assert_eq!(image.dimensions(), (900, 600));
 }
+
+/// Where egui lays out the panel's buttons in a 1280×720 window: "Pause" in the scene row,
+/// "box" in the spawn row (23 pixels lower than in tests/web/smoke.mjs: the desktop panel
+/// has a row of save and load buttons more).
+const PAUSE_BUTTON: (u32, u32) = (33, 59);
+const SPAWN_BOX_BUTTON: (u32, u32) = (90, 302);
+
+/// Fewest pixels of the spawn highlight a new box must add to the frame. The 0.6 m box
+/// covers thousands of pixels in most scenes and about 250 on top of the pyramid, 30 m from
+/// the camera; a box out of view adds none.
+const MIN_SPAWNED_PIXELS: usize = 100;
+
+/// A pixel of the highlight given to new bodies (`SPAWN_COLOR`, magenta) on a lit or shaded
+/// face: red and blue strong, green weak. No palette colour, the sleep colour, the sky or
+/// the panel comes near it.
+fn is_spawn_highlight(pixel: &image::Rgba<u8>) -> bool {
+    let [r, g, b, _] = pixel.0.map(u32::from);
+    r >= 60 && 2 * b >= r && 3 * g < r
+}
+
+fn count_highlight(path: &Path) -> usize {
+    highlight_pixels(path).len()
+}
+
+/// Where the highlight's pixels are, (x, y) from the top-left.
+fn highlight_pixels(path: &Path) -> Vec<(u32, u32)> {
+    let image = image::open(path)
+        .unwrap_or_else(|e| panic!("no screenshot at {}: {e}", path.display()))
+        .to_rgba8();
+    image
+        .enumerate_pixels()
+        .filter(|(_, _, p)| is_spawn_highlight(p))
+        .map(|(x, y, _)| (x, y))
+        .collect()
+}
+
+/// The viewer on `scene`, paused by a click on "Pause" after its first frames, then (with
+/// `spawn`) a click on the "box" spawn button; it saves its last frame to `shot`.
+fn pause_and_maybe_spawn(scene: &str, spawn: bool, shot: &Path) -> std::process::Output {
+    let click = |(x, y): (u32, u32)| format!("xdotool mousemove --window $w {x} {y} click 1");
+    let spawn_click = if spawn {
+        click(SPAWN_BOX_BUTTON)
+    } else {
+        String::new()
+    };
+    let script = format!(
+        "\"$RIGID\" --scene {scene} --exit-after 6 --screenshot '{}' & pid=$!
+         w=$(xdotool search --sync --name '^rigid$' | head -n 1)
+         sleep 2
+         {}
+         sleep 0.5
+         {spawn_click}
+         wait $pid",
+        shot.display(),
+        click(PAUSE_BUTTON),
+    );
+    run_in_xvfb(&script)
+}
+
+#[test]
+fn a_spawn_button_puts_the_body_in_view_in_every_scene() {
+    if !tools_present("the window test", &missing(&["xvfb-run", "xdotool"])) {
+        return;
+    }
+    let mut failures = Vec::new();
+    for scene in rigid::sim::scene_names() {
+        let before = screenshot_path(&format!("spawn_{scene}_before.png"));
+        let after = screenshot_path(&format!("spawn_{scene}_after.png"));
+        assert_rich_screenshot(&pause_and_maybe_spawn(scene, false, &before), &before);
+        assert_rich_screenshot(&pause_and_maybe_spawn(scene, true, &after), &after);
+        let (without, with) = (count_highlight(&before), count_highlight(&after));
+        println!("{scene}: {without} highlight pixels before the spawn, {with} after");
+        if with < without + MIN_SPAWNED_PIXELS {
+            failures.push(format!(
+                "{scene}: the spawned box adds {} highlight pixels (< {MIN_SPAWNED_PIXELS}); see {}",
+                with.saturating_sub(without),
+                after.display()
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn a_key_spawns_at_the_cursor() {
+    if !tools_present("the window test", &missing(&["xvfb-run", "xdotool"])) {
+        return;
+    }
+    // falling_box: this pixel lies on the platform's top face, left of the cube.
+    let cursor = (640, 500);
+    let shot = screenshot_path("spawn_at_cursor.png");
+    // Without a window manager the window gets the keyboard only once focused; the second
+    // move makes sure the viewer saw the cursor inside its view.
+    let script = format!(
+        "\"$RIGID\" --scene falling_box --exit-after 6 --screenshot '{}' & pid=$!
+         w=$(xdotool search --sync --name '^rigid$' | head -n 1)
+         sleep 2
+         xdotool mousemove --window $w {} {} click 1
+         xdotool windowfocus --sync $w
+         xdotool mousemove --window $w {} {}; sleep 0.3
+         xdotool mousemove --window $w {} {}; sleep 0.3
+         xdotool key 2
+         wait $pid",
+        shot.display(),
+        PAUSE_BUTTON.0,
+        PAUSE_BUTTON.1,
+        cursor.0 - 1,
+        cursor.1 - 1,
+        cursor.0,
+        cursor.1,
+    );
+    assert_rich_screenshot(&run_in_xvfb(&script), &shot);
+    let pixels = highlight_pixels(&shot);
+    let count = pixels.len() as u32;
+    println!("spawn at the cursor: {count} highlight pixels");
+    assert!(
+        count as usize >= MIN_SPAWNED_PIXELS,
+        "{count} highlight pixels"
+    );
+    // The box rests on the face under the cursor: its picture lies just above the cursor.
+    let sum = pixels
+        .iter()
+        .fold((0, 0), |(sx, sy), &(x, y)| (sx + x, sy + y));
+    let centre = (sum.0 / count, sum.1 / count);
+    let off = (centre.0.abs_diff(cursor.0), centre.1.abs_diff(cursor.1));
+    assert!(
+        off.0 < 40 && centre.1 < cursor.1 && off.1 < 100,
+        "the box is drawn around {centre:?}, the cursor was at {cursor:?}"
+    );
+}

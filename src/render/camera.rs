@@ -65,6 +65,16 @@ impl OrbitCamera {
         self.target + Vec3::new(sy * cp, sp, cy * cp) * self.distance
     }
 
+    /// The view's up direction in world space: unit length, square to the line of sight.
+    pub fn up(&self) -> Vec3 {
+        self.view().row(1).truncate()
+    }
+
+    /// Half the height the view shows at the target's distance, m.
+    pub fn half_height_at_target(&self) -> f32 {
+        self.distance * (FOV_Y / 2.0).tan()
+    }
+
     /// The world-to-view matrix (right-handed, looking down view -z, +y up).
     pub fn view(&self) -> Mat4 {
         view::look_at_mat4(self.eye(), self.target, Vec3::Y)

@@ -31,6 +31,9 @@ const PALETTE: [[f32; 3]; 6] = [
 pub const STATIC_COLOR: [f32; 3] = [0.60, 0.63, 0.68];
 /// Distinct from every palette entry: a saturated blue-violet.
 pub const SLEEP_COLOR: [f32; 3] = [0.35, 0.35, 0.95];
+/// A body spawned a moment ago (gamma-encoded): a saturated magenta, far from every palette
+/// entry, so the user sees at once where it appeared.
+pub const SPAWN_COLOR: [f32; 3] = [1.0, 0.1, 0.85];
 /// How far the selected body's colour moves toward white.
 const SELECTED_LIGHTEN: f32 = 0.45;
 
@@ -378,7 +381,9 @@ impl SceneRenderer {
 
 fn body_color(frame: &FrameInput, index: usize) -> [f32; 3] {
     let body = &frame.snapshot.bodies[index];
-    let base = if body.sleeping && frame.overlays.sleep_tint {
+    let base = if body.just_spawned {
+        SPAWN_COLOR
+    } else if body.sleeping && frame.overlays.sleep_tint {
         SLEEP_COLOR
     } else if !body.is_dynamic {
         static_color(body.shape_id)

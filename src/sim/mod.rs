@@ -19,6 +19,7 @@ pub mod snapshot;
 pub mod spawn;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod thread;
+pub mod world_bounds;
 
 pub use command::{Command, SpawnKind};
 pub use frame_loop::FrameLoop;

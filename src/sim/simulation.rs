@@ -23,9 +23,14 @@ use crate::sim::snapshot::{
     ShapeTable, SimSettings, Snapshot,
 };
 
+use crate::sim::{spawn, world_bounds};
+
 /// The material name of bodies spawned from the panel.
 const SPAWNED_MATERIAL: &str = "spawned";
-use crate::sim::spawn;
+
+/// Simulated seconds a spawned body is flagged as new (the viewer highlights it), long
+/// enough to spot where it appeared.
+const SPAWN_HIGHLIGHT_SECONDS: f64 = 3.0;
 
 /// Simulated seconds between two plotted samples, and how many are kept (20 s of history).
 const HISTORY_INTERVAL: f64 = 1.0 / 30.0;
@@ -70,6 +75,13 @@ pub struct Simulation {
     /// Bounding boxes of the bodies for placing spawns, kept while nothing moves so that a
     /// burst of spawns between two steps costs O(n) each, not a box computation per body.
     spawn_boxes: Option<Vec<Aabb>>,
+    /// Per body index: the world time it was spawned at (None for the scene's bodies).
+    spawned_at: Vec<Option<f64>>,
+    /// Dynamic bodies whose centre sinks below this height are taken out of the world (see
+    /// `world_bounds::floor_of`), m.
+    floor: f64,
+    /// Bodies taken out for falling below `floor` since the scene was loaded.
+    left_world: usize,
     /// Set when a step or command panicked: the world is kept for inspection but no longer
     /// stepped until a reset or another scene replaces it.
     failure: Option<String>,
@@ -114,6 +126,9 @@ impl Simulation {
             rate: RateMeter::default(),
             message: None,
             spawn_boxes: None,
+            spawned_at: Vec::new(),
+            floor: 0.0,
+            left_world: 0,
             failure: None,
         };
         sim.install(scene, setup);
@@ -292,7 +307,17 @@ impl Simulation {
         scene::drive(&self.motions, &mut self.world, self.settings.dt);
         self.world.step(self.settings.dt);
         self.rate.record(started.elapsed());
+        self.remove_fallen();
         self.sample_history();
+    }
+
+    /// Takes out the bodies that fell below the scene's floor, so none falls forever.
+    fn remove_fallen(&mut self) {
+        for id in world_bounds::fallen(&self.world, self.floor) {
+            if self.world.remove_body(id).is_ok() {
+                self.left_world += 1;
+            }
+        }
     }
 
     /// Copies the state out for the renderer and UI. `step_interval` is the wall time one
@@ -309,7 +334,9 @@ impl Simulation {
                 // lists it among the faults).
                 let gone = matches!(body.motion, Motion::Removed | Motion::Isolated);
                 let visible = !hidden && !gone;
-                body_state(body, self.previous[i], self.shape_ids[i], visible)
+                let mut state = body_state(body, self.previous[i], self.shape_ids[i], visible);
+                state.just_spawned = self.just_spawned(i);
+                state
             })
             .collect();
         let step_interval = if self.settings.time_scale > 0.0 {
@@ -333,9 +360,20 @@ impl Simulation {
             message: self.message.clone(),
             faults: newest_faults(self.world.faults()),
             fault_count: self.world.faults().len(),
+            left_world: self.left_world,
             published_at,
             step_interval,
         }
+    }
+
+    /// Whether body `index` was spawned less than `SPAWN_HIGHLIGHT_SECONDS` ago.
+    fn just_spawned(&self, index: usize) -> bool {
+        let now = self.world.time();
+        self.spawned_at
+            .get(index)
+            .copied()
+            .flatten()
+            .is_some_and(|t| now - t < SPAWN_HIGHLIGHT_SECONDS)
     }
 
     /// Run settings that live in the world's own settings.
@@ -429,6 +467,9 @@ impl Simulation {
         // The panel shows where each step's time goes.
         self.world.set_stage_timing(true);
         self.spawn_boxes = None;
+        self.spawned_at.clear();
+        self.floor = world_bounds::floor_of(&self.world);
+        self.left_world = 0;
         self.hidden = setup.hidden;
         self.materials = setup.materials;
         self.motions = setup.motions;
@@ -547,6 +588,11 @@ impl Simulation {
             Ok(id) => {
                 boxes.push(placed);
                 self.track_body(id.index());
+                let index = id.index();
+                if self.spawned_at.len() <= index {
+                    self.spawned_at.resize(index + 1, None);
+                }
+                self.spawned_at[index] = Some(self.world.time());
             }
             Err(e) => self.message = Some(format!("spawn refused: {e}")),
         }
@@ -652,6 +698,7 @@ fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32, visible: bool
         is_dynamic: body.is_dynamic(),
         sleeping: body.sleeping,
         visible,
+        just_spawned: false,
         velocity: body.velocity().as_vec3(),
         angular_velocity: body.angular_velocity().as_vec3(),
     }
@@ -895,6 +942,59 @@ mod tests {
             hulls[0].vertices, hulls[1].vertices,
             "each spawn gets its own points"
         );
+    }
+
+    fn spawn_ball(sim: &mut Simulation, position: DVec3) {
+        sim.apply(Command::Spawn {
+            kind: SpawnKind::Sphere,
+            position,
+            velocity: DVec3::ZERO,
+        });
+    }
+
+    #[test]
+    fn bodies_below_the_floor_leave_the_world_and_are_counted() {
+        // falling_box: the platform's bottom is y = -0.5 and its side 5 m, so the floor lies
+        // the 20 m margin below it, far below anything the camera shows.
+        let mut sim = Simulation::new("falling_box").unwrap();
+        assert_eq!(sim.floor, -20.5);
+        let floor = sim.floor;
+        spawn_ball(&mut sim, DVec3::new(10.0, floor - 1.0, 0.0));
+        spawn_ball(&mut sim, DVec3::new(10.0, floor + 1.0, 0.0));
+        let (deep, shallow) = (3, 4);
+        sim.step();
+        let bodies = sim.world().bodies();
+        assert_eq!(bodies[deep].motion, Motion::Removed);
+        assert!(bodies[shallow].is_dynamic());
+        let snapshot = sim.snapshot(Instant::now());
+        assert_eq!(snapshot.left_world, 1);
+        assert!(!snapshot.bodies[deep].visible);
+        // The falling box of the scene and the ball above the floor stay until they sink
+        // past it; then the ball goes too.
+        while sim.world().bodies()[shallow].is_dynamic() {
+            assert!(sim.world().bodies()[2].is_dynamic());
+            sim.step();
+        }
+        assert!(sim.world().bodies()[shallow].position.y < sim.floor + 0.1);
+        assert_eq!(sim.snapshot(Instant::now()).left_world, 2);
+        // A reset starts the count again.
+        sim.apply(Command::Reset);
+        assert_eq!(sim.snapshot(Instant::now()).left_world, 0);
+    }
+
+    #[test]
+    fn a_spawned_body_is_flagged_new_for_a_few_seconds() {
+        let mut sim = Simulation::new("falling_box").unwrap();
+        spawn_ball(&mut sim, DVec3::new(0.0, 3.0, 2.0));
+        let new = |sim: &Simulation| sim.snapshot(Instant::now()).bodies[3].just_spawned;
+        assert!(new(&sim));
+        assert!(!sim.snapshot(Instant::now()).bodies[2].just_spawned);
+        // One step more than the highlight lasts: summed steps may fall just short of it.
+        let steps = (SPAWN_HIGHLIGHT_SECONDS / sim.settings().dt).ceil() as usize + 1;
+        for _ in 0..steps {
+            sim.step();
+        }
+        assert!(!new(&sim));
     }
 
     #[test]

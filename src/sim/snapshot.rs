@@ -55,6 +55,8 @@ pub struct BodyState {
     pub sleeping: bool,
     /// False for bodies the scene hides (simulated, not drawn, not pickable).
     pub visible: bool,
+    /// Spawned a moment ago: the viewer highlights it so the user sees where it appeared.
+    pub just_spawned: bool,
     /// Velocity of the centre of mass, m/s.
     pub velocity: Vec3,
     /// rad/s, world axes.
@@ -211,6 +213,9 @@ pub struct Snapshot {
     pub faults: Vec<Fault>,
     /// How many faults there were in all, listed or not.
     pub fault_count: usize,
+    /// Bodies taken out of the world since the scene was loaded because they fell far below
+    /// it (see `sim::world_bounds`).
+    pub left_world: usize,
     /// When the newest step was taken, so a frame can place itself between `previous` and
     /// `pose` (see `blend_factor`).
     pub published_at: Instant,

@@ -1,5 +1,7 @@
-//! Bodies the panel spawns, and where they go: at the requested point if it is free, else on
-//! top of whatever occupies that spot. Spawned bodies never start inside one another, so a
+//! Bodies the panel spawns, and where they go. The viewer aims a spawn where the user looks
+//! (`off_surface`: just off the surface under the cursor or the view's centre) and sends
+//! that point in the command, so a replay never needs the camera; the simulation then puts
+//! the body there if it is free, else on top of whatever occupies that spot (`free_spot`). Spawned bodies never start inside one another, so a
 //! storm of spawns at one point becomes a falling column instead of thousands of bodies
 //! overlapping in one place (n² contact pairs and an explosion).
 
@@ -8,8 +10,37 @@ use glam::{DMat3, DQuat, DVec3};
 use crate::physics::{Aabb, BodyDesc, Material, Shape, World};
 use crate::sim::command::SpawnKind;
 
-/// Vertical clearance left between a spawned body and the one below it, m.
+/// Vertical clearance left between a spawned body and the one below it, m; also between a
+/// body spawned off a surface and that surface.
 const SPAWN_GAP: f64 = 0.02;
+
+/// The random hull's points lie this far from its origin, m (least, most).
+const HULL_RADII: (f64, f64) = (0.2, 0.35);
+
+/// A point of the scene's surface the user aimed at, with the surface's unit normal there,
+/// facing the viewer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceHit {
+    /// World coordinates, m.
+    pub point: DVec3,
+    /// Unit length, pointing out of the surface toward the ray's origin.
+    pub normal: DVec3,
+}
+
+/// Where a body of `kind` aimed at `hit` goes: out of the surface along its normal by the
+/// body's bounding radius plus `SPAWN_GAP`, so that it never starts inside what it was aimed
+/// at: above a floor, in front of a wall.
+pub fn off_surface(kind: SpawnKind, hit: SurfaceHit) -> DVec3 {
+    hit.point + hit.normal * (bounding_radius(kind) + SPAWN_GAP)
+}
+
+/// The radius of a sphere about the shape's origin that holds every body of `kind`, m.
+pub fn bounding_radius(kind: SpawnKind) -> f64 {
+    match kind {
+        SpawnKind::Hull => HULL_RADII.1,
+        _ => shape(kind, 0).bounding_radius(),
+    }
+}
 
 /// A body of `kind`, with a small tilt and spin so that it does not land perfectly flat.
 /// `seed` picks the random hull's points.
@@ -64,7 +95,7 @@ fn shape(kind: SpawnKind, seed: u64) -> Shape {
     }
 }
 
-/// The hull of 14 points at random directions and radii 0.2 to 0.35 m. Points spread over a
+/// The hull of 14 points at random directions and radii `HULL_RADII`. Points spread over a
 /// sphere never all lie in one plane, so the hull always exists.
 fn random_hull(seed: u64) -> Shape {
     let mut state = seed
@@ -82,7 +113,8 @@ fn random_hull(seed: u64) -> Shape {
             let z = 2.0 * next() - 1.0;
             let angle = std::f64::consts::TAU * next();
             let ring = (1.0 - z * z).sqrt();
-            DVec3::new(ring * angle.cos(), z, ring * angle.sin()) * (0.2 + 0.15 * next())
+            let radius = HULL_RADII.0 + (HULL_RADII.1 - HULL_RADII.0) * next();
+            DVec3::new(ring * angle.cos(), z, ring * angle.sin()) * radius
         })
         .collect();
     Shape::hull(&points).unwrap_or(Shape::sphere(0.3))
@@ -114,5 +146,37 @@ mod tests {
         // Beside the floor's footprint nothing is in the way.
         let beside = DVec3::new(7.0, 0.2, 0.0);
         assert_eq!(free_spot(&boxes, &ball, beside), beside);
+    }
+
+    #[test]
+    fn a_spawn_aimed_at_a_surface_starts_just_off_it() {
+        let world = world_with_floor();
+        let boxes = body_boxes(&world);
+        for kind in SpawnKind::ALL {
+            // The floor's top face, hit at (1, 0.5, -2): the body rests its radius above it.
+            let floor = SurfaceHit {
+                point: DVec3::new(1.0, 0.5, -2.0),
+                normal: DVec3::Y,
+            };
+            let spot = off_surface(kind, floor);
+            let radius = bounding_radius(kind);
+            assert_eq!((spot.x, spot.z), (1.0, -2.0));
+            assert!((spot.y - (0.5 + radius + SPAWN_GAP)).abs() < 1e-12);
+            // Free there, so the simulation keeps it, whatever the seed of a hull.
+            for seed in 0..8 {
+                let desc = body(kind, seed, Material::default());
+                assert!(desc.shape.bounding_radius() <= radius + 1e-12);
+                assert_eq!(free_spot(&boxes, &desc, spot), spot, "{kind:?}");
+            }
+            // The floor's side face, seen from +x: the body starts beside it, at the hit's
+            // height, not lifted to the floor's top.
+            let side = SurfaceHit {
+                point: DVec3::new(5.0, 0.0, 1.0),
+                normal: DVec3::X,
+            };
+            let beside = off_surface(kind, side);
+            assert_eq!((beside.y, beside.z), (0.0, 1.0));
+            assert!(beside.x > 5.0 + radius);
+        }
     }
 }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use web_time::Instant;
 
-use glam::Vec2;
+use glam::{DVec3, Vec2};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
@@ -14,10 +14,13 @@ use winit::window::{Window, WindowId};
 
 use crate::render::{FrameInput, OrbitCamera, Ray, Viewport};
 use crate::sim::snapshot::BodyPose;
-use crate::sim::{CameraHint, Command, Driver, FileCommands, Recording, Simulation, Snapshot};
+use crate::sim::{
+    CameraHint, Command, Driver, FileCommands, Recording, Simulation, Snapshot, SpawnKind,
+};
+use crate::ui::aim;
 use crate::ui::display::{Display, UiFrame};
 use crate::ui::drag::Drag;
-use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel};
+use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel, PanelRequests};
 use crate::ui::picking::{self, Pick};
 
 /// How to start the viewer.
@@ -177,11 +180,38 @@ impl App {
         inside.then(|| self.camera.ray(local, Vec2::new(v.width, v.height)))
     }
 
-    fn pick_under_cursor(&self, snapshot: &Snapshot, poses: &[BodyPose]) -> Option<Pick> {
+    /// The cursor's ray when the cursor is over the 3D view and not over the panel.
+    fn scene_ray(&self) -> Option<Ray> {
         if self.egui_ctx.is_pointer_over_egui() {
             return None;
         }
-        picking::pick(&self.cursor_ray()?, snapshot, poses)
+        self.cursor_ray()
+    }
+
+    /// The ray the panel's spawns aim along (see `aim::VIEW_AIM`).
+    fn view_aim_ray(&self) -> Ray {
+        let size = Vec2::new(self.viewport.width, self.viewport.height);
+        self.camera.ray(size * aim::VIEW_AIM, size)
+    }
+
+    fn pick_under_cursor(&self, snapshot: &Snapshot, poses: &[BodyPose]) -> Option<Pick> {
+        picking::pick(&self.scene_ray()?, snapshot, poses)
+    }
+
+    /// Spawns a body of `kind` where the user looks: aimed along `ray`, or above the view's
+    /// centre without one (a panel button, or a cursor outside the view). See `ui::aim`.
+    fn spawn(&self, kind: SpawnKind, ray: Option<Ray>) {
+        let Some(snapshot) = self.sim.latest() else {
+            return;
+        };
+        let poses = current_poses(&snapshot);
+        let ray = ray.unwrap_or_else(|| self.view_aim_ray());
+        let position = aim::spawn_position(kind, &ray, &self.camera, &snapshot, &poses);
+        self.sim.send(Command::Spawn {
+            kind,
+            position,
+            velocity: DVec3::ZERO,
+        });
     }
 
     fn on_mouse_button(&mut self, button: MouseButton, state: ElementState) {
@@ -238,6 +268,11 @@ impl App {
                 self.sim.send(Command::SetPaused(true));
                 self.sim.send(Command::StepOnce);
             }
+            Key::Character(c) => {
+                if let Some(kind) = spawn_key(c.as_str()) {
+                    self.spawn(kind, self.scene_ray());
+                }
+            }
             _ => {}
         }
     }
@@ -268,7 +303,11 @@ impl App {
         let frame_dt = self.clock.tick(now);
         let poses = snapshot.poses_at(snapshot.blend_factor(now));
 
-        let (ui_frame, mut commands) = self.run_panel(&snapshot);
+        let (ui_frame, requests) = self.run_panel(&snapshot);
+        for kind in requests.spawns {
+            self.spawn(kind, None);
+        }
+        let mut commands = requests.commands;
         // Only bodies the mouse can push are highlighted under the cursor.
         let hovered = self
             .pick_under_cursor(&snapshot, &poses)
@@ -318,15 +357,15 @@ impl App {
     }
 
     /// Builds the panel for this frame; also sets the 3D viewport to the space it leaves.
-    fn run_panel(&mut self, snapshot: &Snapshot) -> (UiFrame, Vec<Command>) {
+    fn run_panel(&mut self, snapshot: &Snapshot) -> (UiFrame, PanelRequests) {
         let (Some(display), Some(state)) = (self.display.as_ref(), self.egui_state.as_mut()) else {
-            return (empty_ui_frame(), Vec::new());
+            return (empty_ui_frame(), PanelRequests::default());
         };
         let raw = state.take_egui_input(&display.window);
         let stats = FrameStats {
             frames_per_second: self.clock.rate,
         };
-        let mut commands = Vec::new();
+        let mut requests = PanelRequests::default();
         let mut panel_right = 0.0;
         let panel = &mut self.panel;
         let output = self.egui_ctx.run_ui(raw, |ui| {
@@ -334,7 +373,7 @@ impl App {
                 .resizable(false)
                 .exact_size(PANEL_WIDTH)
                 .show(ui, |ui| panel.show(ui, snapshot, stats));
-            commands = shown.inner;
+            requests = shown.inner;
             panel_right = shown.response.rect.right();
         });
         state.handle_platform_output(&display.window, output.platform_output);
@@ -356,7 +395,7 @@ impl App {
             textures: output.textures_delta,
             pixels_per_point: output.pixels_per_point,
         };
-        (frame, commands)
+        (frame, requests)
     }
 
     /// Takes the window's device, or fails the viewer with the reason there is none.
@@ -477,6 +516,12 @@ impl ApplicationHandler for App {
             None => {}
         }
     }
+}
+
+/// Keys 1 to 5 spawn the panel's kinds, in the panel's order, at the cursor.
+fn spawn_key(key: &str) -> Option<SpawnKind> {
+    let digit: usize = key.parse().ok()?;
+    SpawnKind::ALL.get(digit.checked_sub(1)?).copied()
 }
 
 fn current_poses(snapshot: &Snapshot) -> Vec<BodyPose> {

@@ -85,6 +85,7 @@ mod tests {
         let pick = Pick {
             body: 3,
             point: Vec3::new(0.0, 0.0, 1.0),
+            normal: Vec3::Z,
             distance: 4.0,
         };
         let drag = Drag::start(&pick, &pose);
@@ -104,6 +105,7 @@ mod tests {
             is_dynamic: true,
             sleeping: false,
             visible: true,
+            just_spawned: false,
             velocity: Vec3::ZERO,
             angular_velocity: Vec3::ZERO,
         };

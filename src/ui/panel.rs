@@ -25,6 +25,16 @@ pub struct FrameStats {
     pub frames_per_second: f64,
 }
 
+/// What the panel's widgets asked for in one frame.
+#[derive(Debug, Default)]
+pub struct PanelRequests {
+    /// Commands to send as they are.
+    pub commands: Vec<Command>,
+    /// Spawn buttons pressed. The panel has no camera, so the viewer aims them (see
+    /// `ui::aim`) before sending them as commands.
+    pub spawns: Vec<SpawnKind>,
+}
+
 /// The values the widgets edit. They are copied from the snapshot whenever the world is
 /// rebuilt (reset, scene change), so the panel always shows what the simulation uses.
 pub struct Panel {
@@ -43,7 +53,6 @@ pub struct Panel {
     substeps: u32,
     sleeping: bool,
     synced_generation: Option<u64>,
-    spawned: u32,
 }
 
 impl Default for Panel {
@@ -62,23 +71,26 @@ impl Default for Panel {
             substeps: crate::physics::solver::soft::SoftSolverSettings::default().substeps,
             sleeping: true,
             synced_generation: None,
-            spawned: 0,
         }
     }
 }
 
 impl Panel {
-    /// Draws the panel; returns the commands its widgets produced this frame.
+    /// Draws the panel; returns what its widgets asked for this frame.
     pub fn show(
         &mut self,
         ui: &mut egui::Ui,
         snapshot: &Snapshot,
         stats: FrameStats,
-    ) -> Vec<Command> {
+    ) -> PanelRequests {
         self.sync(snapshot);
         let mut commands = Vec::new();
+        let mut spawns = Vec::new();
         egui::ScrollArea::vertical().show(ui, |ui| {
-            ui.heading("rigid");
+            ui.horizontal(|ui| {
+                ui.heading("rigid");
+                left_world(ui, snapshot);
+            });
             // Errors first: a stopped simulation must be noticed.
             if let Some(message) = &snapshot.message {
                 ui.colored_label(egui::Color32::LIGHT_RED, message);
@@ -88,7 +100,7 @@ impl Panel {
             ui.separator();
             self.time_section(ui, &mut commands);
             ui.separator();
-            self.spawn_section(ui, snapshot, &mut commands);
+            spawn_section(ui, &mut spawns);
             ui.separator();
             self.world_section(ui, &mut commands);
             materials_section(ui, snapshot, &mut commands);
@@ -107,7 +119,7 @@ impl Panel {
                 .default_open(false)
                 .show(ui, |ui| plots::penetration(ui, &snapshot.history));
         });
-        commands
+        PanelRequests { commands, spawns }
     }
 
     fn sync(&mut self, snapshot: &Snapshot) {
@@ -217,22 +229,6 @@ impl Panel {
         }
     }
 
-    fn spawn_section(&mut self, ui: &mut egui::Ui, snapshot: &Snapshot, out: &mut Vec<Command>) {
-        ui.label("Spawn above the scene");
-        ui.horizontal_wrapped(|ui| {
-            for kind in SpawnKind::ALL {
-                if ui.button(kind.name()).clicked() {
-                    out.push(Command::Spawn {
-                        kind,
-                        position: spawn_point(snapshot, self.spawned),
-                        velocity: DVec3::ZERO,
-                    });
-                    self.spawned += 1;
-                }
-            }
-        });
-    }
-
     fn world_section(&mut self, ui: &mut egui::Ui, out: &mut Vec<Command>) {
         let mut changed = false;
         ui.horizontal(|ui| {
@@ -281,7 +277,20 @@ impl Panel {
     }
 }
 
-/// The last step's stages in microseconds: broad, narrow, islands, solve.
+/// The spawn buttons. Their bodies appear in view, above what the view's centre shows; keys
+/// 1 to 5 spawn the same kinds at the cursor.
+fn spawn_section(ui: &mut egui::Ui, out: &mut Vec<SpawnKind>) {
+    ui.label("Spawn in view")
+        .on_hover_text("keys 1 to 5 spawn these at the cursor");
+    ui.horizontal_wrapped(|ui| {
+        for kind in SpawnKind::ALL {
+            if ui.button(kind.name()).clicked() {
+                out.push(kind);
+            }
+        }
+    });
+}
+
 /// Save and load buttons, for a viewer with a file system (not the browser's).
 #[cfg(not(target_arch = "wasm32"))]
 fn files_row(ui: &mut egui::Ui, out: &mut Vec<Command>) {
@@ -368,6 +377,20 @@ fn faults(ui: &mut egui::Ui, snapshot: &Snapshot) {
     }
 }
 
+/// How many bodies fell far below the scene and were taken out (see `sim::world_bounds`);
+/// beside the heading, where it is always in view and moves no button.
+fn left_world(ui: &mut egui::Ui, snapshot: &Snapshot) {
+    match snapshot.left_world {
+        0 => {}
+        1 => {
+            ui.label("1 body left the world");
+        }
+        n => {
+            ui.label(format!("{n} bodies left the world"));
+        }
+    }
+}
+
 const STAGES_LABEL: &str = "stages (µs)";
 const STAGES_LEGEND: &str =
     "b broad phase, n narrow phase, i islands and sleep, s contact solve, g integration";
@@ -438,24 +461,6 @@ fn counters(ui: &mut egui::Ui, snapshot: &Snapshot, stats: FrameStats) {
                 ui.end_row();
             }
         });
-}
-
-/// A point 1.5 m above the highest body, near the scene's centre; successive spawns are
-/// spread on a small circle so they do not land on one another.
-fn spawn_point(snapshot: &Snapshot, count: u32) -> DVec3 {
-    let top = snapshot
-        .bodies
-        .iter()
-        .map(|b| b.aabb.1.y)
-        .fold(0.0f32, f32::max);
-    let target = snapshot.camera.target;
-    let angle = count as f32 * 2.4;
-    let spread = 0.4 * (count % 5) as f32 / 4.0;
-    DVec3::new(
-        (target.x + spread * angle.cos()) as f64,
-        (top + 1.5) as f64,
-        (target.z + spread * angle.sin()) as f64,
-    )
 }
 
 fn pipeline_name(pipeline: Pipeline) -> &'static str {

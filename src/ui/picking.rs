@@ -20,6 +20,8 @@ pub struct Pick {
     pub body: usize,
     /// Where the ray meets the body's surface, world space.
     pub point: Vec3,
+    /// The surface's unit normal at `point`, facing the ray.
+    pub normal: Vec3,
     /// Distance along the ray to `point`, m.
     pub distance: f32,
 }
@@ -50,6 +52,7 @@ pub fn pick(ray: &Ray, snapshot: &Snapshot, poses: &[BodyPose]) -> Option<Pick> 
             Some(Pick {
                 body: index,
                 point: hit.point.as_vec3(),
+                normal: hit.normal.as_vec3(),
                 distance: hit.distance as f32,
             })
         })
