@@ -535,6 +535,122 @@ fn a_weld_breaks_above_its_breaking_torque_only() {
     }
 }
 
+/// A limb (a 1 kg bar 1 m long, 10 cm thick) hanging from its top end under a cone-twist
+/// joint whose axis is the bar's, with a cone of `cone` rad; a ball joint instead when
+/// `cone` is None. The bar hangs along `down` (a unit vector).
+fn hanging_limb(cone: Option<f64>, down: DVec3) -> (World, BodyId, JointId) {
+    let mut world = world();
+    let pivot = fixed_point(&mut world, DVec3::ZERO);
+    let limb = BodyDesc::dynamic(Shape::cuboid(DVec3::new(0.05, 0.5, 0.05)))
+        .at(down * 0.5)
+        .rotated(DQuat::from_rotation_arc(-DVec3::Y, down))
+        .with_mass(1.0);
+    let limb = world.add_body(limb).unwrap();
+    let desc = match cone {
+        Some(cone) => JointDesc::cone_twist(pivot, limb, DVec3::ZERO, down, cone),
+        None => JointDesc::ball(pivot, limb, DVec3::ZERO),
+    };
+    let joint = world.add_joint(desc).unwrap();
+    (world, limb, joint)
+}
+
+/// How far a hanging limb's axis is from straight down, rad.
+fn tilt(world: &World, limb: BodyId) -> f64 {
+    let axis = world.body(limb).orientation * -DVec3::Y;
+    axis.angle_between(-DVec3::Y)
+}
+
+/// Pushed sideways at its foot by 50 N (its free balance would be atan(100/9.81) = 84° out), a
+/// limb in a cone of 30° stops at the cone: within 0.5°.
+#[test]
+fn a_cone_twist_joint_holds_its_cone() {
+    let cone = 30f64.to_radians();
+    let (mut world, limb, _) = hanging_limb(Some(cone), -DVec3::Y);
+    let mut widest: f64 = 0.0;
+    for _ in 0..180 {
+        let foot = world.body(limb).position * 2.0;
+        world
+            .body_mut(limb)
+            .apply_force_at(DVec3::new(50.0, 0.0, 0.0), foot);
+        world.step(DT);
+        widest = widest.max(tilt(&world, limb));
+    }
+    println!(
+        "limb pushed against a 30° cone: widest {:.3}°",
+        widest.to_degrees()
+    );
+    assert!(
+        (widest - cone).abs() < 0.5f64.to_radians(),
+        "{}°",
+        widest.to_degrees()
+    );
+}
+
+/// Inside its cone a cone-twist joint is a ball joint: a limb released 20° out (its axis then
+/// the cone's) under a 60° cone swings as on a ball joint, to 1e-12 m over 2 s, and reaches
+/// 20° out on the other side, so the cone's row is not idle for want of a swing.
+#[test]
+fn inside_its_cone_a_cone_twist_joint_is_a_ball_joint() {
+    let start = DVec3::new(20f64.to_radians().sin(), -20f64.to_radians().cos(), 0.0);
+    let (mut coned, limb_c, _) = hanging_limb(Some(60f64.to_radians()), start);
+    let (mut free, limb_f, _) = hanging_limb(None, start);
+    let mut worst: f64 = 0.0;
+    let mut widest: f64 = 0.0;
+    for _ in 0..120 {
+        coned.step(DT);
+        free.step(DT);
+        worst = worst.max(
+            coned
+                .body(limb_c)
+                .position
+                .distance(free.body(limb_f).position),
+        );
+        if coned.body(limb_c).position.x < 0.0 {
+            widest = widest.max(tilt(&coned, limb_c));
+        }
+    }
+    println!(
+        "limb in a 60° cone against a ball joint: {worst:.2e} m apart, {:.2}° out the other side",
+        widest.to_degrees()
+    );
+    assert!(worst < 1e-12, "{worst} m");
+    assert!(widest > 19f64.to_radians(), "{}°", widest.to_degrees());
+}
+
+/// Without gravity, a box on a cone-twist joint turned about the axis by ±20 N·m stops at
+/// its twist limits, 40° and −20° (within 0.5°), and the joint's angle is the box's turn.
+#[test]
+fn a_cone_twist_joint_holds_its_twist_limits() {
+    let mut world = World::default();
+    let pivot = fixed_point(&mut world, DVec3::ZERO);
+    let block = BodyDesc::dynamic(Shape::cuboid(DVec3::new(0.3, 0.1, 0.1)))
+        .at(DVec3::new(0.0, -0.5, 0.0))
+        .with_mass(2.0);
+    let block = world.add_body(block).unwrap();
+    let (lo, hi) = (-20f64.to_radians(), 40f64.to_radians());
+    let desc = JointDesc::cone_twist(pivot, block, DVec3::ZERO, -DVec3::Y, 0.5).with_limits(lo, hi);
+    let joint = world.add_joint(desc).unwrap();
+    // A torque about +y turns the box the other way about the joint's axis (−y).
+    for (torque, limit) in [(-20.0, hi), (20.0, lo)] {
+        for _ in 0..120 {
+            world.body_mut(block).torque = DVec3::new(0.0, torque, 0.0);
+            world.step(DT);
+        }
+        let angle = world.joint(joint).unwrap().angle;
+        let x = world.body(block).orientation.x_axis;
+        // Twist about −y: the box's x axis turned by −angle about +y.
+        let turn = x.z.atan2(x.x);
+        println!(
+            "twist under {torque} N·m: {:.3}° (limit {:.1}°), box turned {:.3}°",
+            angle.to_degrees(),
+            limit.to_degrees(),
+            turn.to_degrees()
+        );
+        assert!((angle - limit).abs() < 0.5f64.to_radians(), "{angle} rad");
+        assert!((angle - turn).abs() < 1e-6, "joint {angle}, box {turn}");
+    }
+}
+
 #[test]
 fn a_weld_keeps_the_relative_pose() {
     let mut world = world();
@@ -651,6 +767,18 @@ fn bad_descriptions_get_typed_errors() {
         (
             JointDesc::slider(a, b, DVec3::ZERO, DVec3::X).with_servo(f64::NAN, 2.0, 1.0, 1.0),
             JointError::NotFinite("servo.target"),
+        ),
+        (
+            JointDesc::cone_twist(a, b, DVec3::ZERO, DVec3::Y, 0.0),
+            JointError::ConeOutOfRange(0.0),
+        ),
+        (
+            JointDesc::cone_twist(a, b, DVec3::ZERO, DVec3::Y, 4.0),
+            JointError::ConeOutOfRange(4.0),
+        ),
+        (
+            JointDesc::cone_twist(a, b, DVec3::ZERO, DVec3::Y, 1.0).with_motor(1.0, 1.0),
+            JointError::Unsupported("motor"),
         ),
         (
             JointDesc::ball(a, b, DVec3::ZERO).with_breaking(0.0, 1.0),

@@ -160,7 +160,9 @@ fn joint_options_reach_the_engine_in_its_units() {
             servo: (target: 30.0, hertz: 4.0, damping_ratio: 1.0, max_force: 5.0)),
            (body_a: "top", body_b: "door", kind: Slider(anchor: (0.4, 0.5, 0.0), axis: (1.0, 0.0, 0.0)),
             servo: (target: 0.25, hertz: 2.0, damping_ratio: 0.7, max_force: 50.0),
-            breaking: (force: 500.0, torque: inf))"#,
+            breaking: (force: 500.0, torque: inf)),
+           (body_a: "top", body_b: "ball_1", limits: (-30.0, 60.0),
+            kind: ConeTwist(anchor: (0.5, 2.0, 0.0), axis: (0.0, -1.0, 0.0), cone: 45.0))"#,
     );
     let world = parse(&text).build_world().unwrap();
     let joints: Vec<_> = world.joints().map(|(_, j)| *j).collect();
@@ -188,6 +190,11 @@ fn joint_options_reach_the_engine_in_its_units() {
     assert_eq!(joints[3].servo.map(|s| s.target), Some(0.25));
     let breaking = joints[3].breaking.unwrap();
     assert_eq!((breaking.force, breaking.torque), (500.0, f64::INFINITY));
+    // A cone-twist's cone and twist limits in degrees become radians.
+    assert_eq!(joints[4].kind, JointKind::ConeTwist);
+    assert!((joints[4].cone - PI / 4.0).abs() < 1e-15);
+    let (lo, hi) = joints[4].limits.unwrap();
+    assert!((lo + PI / 6.0).abs() < 1e-15 && (hi - PI / 3.0).abs() < 1e-15);
 }
 
 #[test]

@@ -328,7 +328,8 @@ pub struct JointSpec {
     pub body_b: String,
     /// What the joint allows, with its anchors and axis.
     pub kind: JointKindSpec,
-    /// Hinge: angles of b relative to a, degrees; slider: offsets along the axis, m;
+    /// Hinge: angles of b relative to a, degrees; cone-twist: its twist, degrees; slider:
+    /// offsets along the axis, m;
     /// distance: the least and greatest length, m (a rope). `(lo, hi)` with lo ≤ hi.
     #[serde(default)]
     pub limits: Option<(f64, f64)>,
@@ -372,6 +373,16 @@ pub enum JointKindSpec {
         anchor: DVec3,
         /// Any non-zero length.
         axis: DVec3,
+    },
+    /// Spherical joint at `anchor` whose bodies' axes (both along `axis` as placed) stay
+    /// within `cone` degrees of each other; `limits` bound the twist about them, degrees.
+    ConeTwist {
+        /// m
+        anchor: DVec3,
+        /// Any non-zero length.
+        axis: DVec3,
+        /// Degrees, in (0, 180].
+        cone: f64,
     },
     /// Weld, its reaction measured at `anchor`.
     Fixed {

@@ -131,6 +131,12 @@ fn single(kind: &JointKindSpec, a: BodyId, b: BodyId) -> Result<JointDesc, Field
             vector("kind.axis", axis)?;
             JointDesc::slider(a, b, anchor, axis)
         }
+        JointKindSpec::ConeTwist { anchor, axis, cone } => {
+            vector("kind.anchor", anchor)?;
+            vector("kind.axis", axis)?;
+            finite("kind.cone", cone)?;
+            JointDesc::cone_twist(a, b, anchor, axis, cone.to_radians())
+        }
         JointKindSpec::Fixed { anchor } => {
             vector("kind.anchor", anchor)?;
             JointDesc::fixed(a, b, anchor)
@@ -170,7 +176,10 @@ fn check_options(spec: &JointSpec) -> Result<(), FieldError> {
 }
 
 fn with_options(desc: JointDesc, spec: &JointSpec) -> JointDesc {
-    let hinge = matches!(spec.kind, JointKindSpec::Hinge { .. });
+    let hinge = matches!(
+        spec.kind,
+        JointKindSpec::Hinge { .. } | JointKindSpec::ConeTwist { .. }
+    );
     JointDesc {
         limits: spec.limits.map(|(lo, hi)| match hinge {
             true => (lo.to_radians(), hi.to_radians()),
@@ -214,6 +223,7 @@ pub(crate) fn joint_field(error: JointError) -> FieldError {
         JointError::ZeroLength => "kind.anchor_b",
         JointError::LimitsOutOfOrder { .. } => "limits",
         JointError::MotorAndServo => "servo",
+        JointError::ConeOutOfRange(_) => "kind.cone",
         JointError::SameBody(_) | JointError::NoDynamicBody => "body_b",
         JointError::NoSuchBody(_) | JointError::BodyGone(_) | JointError::NoSuchJoint(_) => {
             "body_a"

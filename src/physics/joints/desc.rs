@@ -22,6 +22,9 @@ pub enum JointKind {
     /// The anchors stay a length apart (a rod), within `[min, max]` (a rope), or are pulled
     /// toward the length by a spring.
     Distance,
+    /// Spherical with limits, for shoulders and hips: b's axis stays within a cone about a's
+    /// (`JointDesc::cone`), and b's twist about it within `limits`.
+    ConeTwist,
 }
 
 /// A motor that drives a hinge's relative angular speed (rad/s, with a torque limit in N·m)
@@ -86,8 +89,11 @@ pub struct JointDesc {
     pub anchor_a: DVec3,
     /// The anchor on body b, world, m (the same point as `anchor_a` except for distance).
     pub anchor_b: DVec3,
-    /// The hinge or slider axis, world (any length but zero); unused by the other kinds.
+    /// The hinge, slider or cone-twist axis, world (any length but zero); unused by the
+    /// other kinds.
     pub axis: DVec3,
+    /// Cone-twist: the greatest angle between the two bodies' axes, rad, in (0, π].
+    pub cone: f64,
     /// Hinge: angles, rad, of b relative to a about the axis from the pose at creation;
     /// slider: offsets along the axis, m; distance: the least and greatest length, m.
     pub limits: Option<(f64, f64)>,
@@ -113,6 +119,7 @@ impl JointDesc {
             anchor_a,
             anchor_b,
             axis: DVec3::Z,
+            cone: std::f64::consts::PI,
             limits: None,
             motor: None,
             servo: None,
@@ -140,6 +147,16 @@ impl JointDesc {
         JointDesc {
             axis,
             ..JointDesc::new(JointKind::Slider, a, b, anchor, anchor)
+        }
+    }
+
+    /// A ball joint at `anchor` whose bodies' axes, both along the world `axis` at creation,
+    /// stay within `cone` rad of each other; `with_limits` bounds the twist about them (rad).
+    pub fn cone_twist(a: BodyId, b: BodyId, anchor: DVec3, axis: DVec3, cone: f64) -> Self {
+        JointDesc {
+            axis,
+            cone,
+            ..JointDesc::new(JointKind::ConeTwist, a, b, anchor, anchor)
         }
     }
 
@@ -217,7 +234,15 @@ impl JointDesc {
                 return Err(JointError::NotFinite(field));
             }
         }
-        if matches!(self.kind, JointKind::Hinge | JointKind::Slider) {
+        if self.kind == JointKind::ConeTwist
+            && !(self.cone > 0.0 && self.cone <= std::f64::consts::PI)
+        {
+            return Err(JointError::ConeOutOfRange(self.cone));
+        }
+        if matches!(
+            self.kind,
+            JointKind::Hinge | JointKind::Slider | JointKind::ConeTwist
+        ) {
             if !self.axis.is_finite() {
                 return Err(JointError::NotFinite("axis"));
             }
@@ -312,6 +337,9 @@ pub enum JointError {
     /// No body has this id (or it names a removed body).
     #[error("there is no body {0}")]
     NoSuchBody(u32),
+    /// A cone-twist joint's cone is not an angle in (0, π].
+    #[error("the cone must be an angle in (0, π] rad, got {0}")]
+    ConeOutOfRange(f64),
     /// A joint has a motor and a servo, which would pull against each other.
     #[error("a joint takes a motor or a servo, not both")]
     MotorAndServo,

@@ -45,10 +45,13 @@ pub struct Joint {
     pub local_anchor_a: DVec3,
     /// The anchor on b, from its centre of mass in its body axes, m.
     pub local_anchor_b: DVec3,
-    /// The unit axis in a's body axes (hinge, slider).
+    /// The unit axis in a's body axes (hinge, slider, cone-twist).
     pub local_axis_a: DVec3,
-    /// The unit axis in b's body axes (hinge).
+    /// The unit axis in b's body axes (hinge, cone-twist).
     pub local_axis_b: DVec3,
+    /// As `JointDesc::cone`.
+    #[serde(default = "half_turn")]
+    pub cone: f64,
     /// A unit direction across the axis in a's body axes, from which a hinge angle is
     /// measured.
     pub local_reference_a: DVec3,
@@ -75,7 +78,8 @@ pub struct Joint {
     pub collide_connected: bool,
     /// A hinge's angle, rad: b's turn about the axis relative to a since creation, counted
     /// through whole turns (a wheel's keeps growing), so that limits beyond ±π and a
-    /// limit near π hold. Zero for the other kinds.
+    /// limit near π hold; a cone-twist's twist, counted the same way. Zero for the other
+    /// kinds.
     #[serde(default)]
     pub angle: f64,
     /// What the rows ended the last step with.
@@ -84,6 +88,10 @@ pub struct Joint {
     pub reaction_force: DVec3,
     /// The torque the joint put on b in the last step about its anchor, N·m, world.
     pub reaction_torque: DVec3,
+}
+
+fn half_turn() -> f64 {
+    std::f64::consts::PI
 }
 
 impl Joint {
@@ -108,6 +116,7 @@ impl Joint {
             local_anchor_b: to_b * (desc.anchor_b - b.position),
             local_axis_a: to_a * axis,
             local_axis_b: to_b * axis,
+            cone: desc.cone,
             local_reference_a: to_a * reference,
             local_reference_b: to_b * reference,
             relative_rotation: (rotation_of(a.orientation).inverse() * rotation_of(b.orientation))
@@ -197,6 +206,7 @@ impl Joint {
             servo: self.servo,
             breaking: self.breaking,
             spring: self.spring,
+            cone: self.cone,
             ..JointDesc::distance(self.body_a, self.body_b, DVec3::ZERO, DVec3::X)
         };
         let desc = JointDesc {

@@ -14,7 +14,7 @@
 //! the last substep would keep its old direction and push the bob along its path, so the
 //! joints take what they gave out of that change (`end_substep`).
 
-use glam::{DMat3, DVec3};
+use glam::{DMat3, DQuat, DVec3};
 
 use super::desc::JointKind;
 use super::joint::{Joint, JointImpulses, rotation_of};
@@ -249,8 +249,89 @@ fn solve_joint(joint: &mut Joint, [a, b]: [&mut BodyView; 2], pass: RowPass) {
         }
         JointKind::Slider => solve_slider(joint, impulses, &g, [a, b], pass),
         JointKind::Distance => solve_distance(joint, impulses, &g, [a, b], pass),
+        JointKind::ConeTwist => {
+            let cone = ConeGeometry::of(joint, a, b);
+            joint.angle = cone.twist;
+            solve_cone_twist(joint, &cone, [a, b], impulses, pass);
+            solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass);
+        }
     }
     joint.impulses = held;
+}
+
+/// A cone-twist joint's angles in the bodies' current poses.
+struct ConeGeometry {
+    /// The angle between a's axis and b's, rad in [0, π].
+    swing: f64,
+    /// The direction about which b's axis has swung away from a's (zero when they are
+    /// aligned or opposite, where it is undefined).
+    swing_axis: DVec3,
+    /// The axis halfway between the two, about which the twist is measured and limited.
+    twist_axis: DVec3,
+    /// b's turn about its axis relative to a's once the swing is taken out, counted through
+    /// whole turns from `Joint::angle`.
+    twist: f64,
+}
+
+impl ConeGeometry {
+    fn of(joint: &Joint, a: &BodyView, b: &BodyView) -> ConeGeometry {
+        let axis_a = a.orientation * joint.local_axis_a;
+        let axis_b = b.orientation * joint.local_axis_b;
+        let across = axis_a.cross(axis_b);
+        let swing = across.length().atan2(axis_a.dot(axis_b));
+        // a's reference carried along the shortest turn from a's axis to b's.
+        let swung =
+            DQuat::from_rotation_arc(axis_a, axis_b) * (a.orientation * joint.local_reference_a);
+        let ref_b = b.orientation * joint.local_reference_b;
+        let measured = axis_b.dot(swung.cross(ref_b)).atan2(swung.dot(ref_b));
+        ConeGeometry {
+            swing,
+            swing_axis: across.normalize_or_zero(),
+            twist_axis: (axis_a + axis_b).normalize_or(axis_b),
+            twist: joint.angle + wrapped(measured - joint.angle),
+        }
+    }
+}
+
+/// The cone's row (its impulse held in `along`) and the twist limits' (`lower`, `upper`).
+fn solve_cone_twist(
+    joint: &Joint,
+    cone: &ConeGeometry,
+    [a, b]: [&mut BodyView; 2],
+    impulses: &mut JointImpulses,
+    pass: RowPass,
+) {
+    if cone.swing_axis != DVec3::ZERO {
+        let room = joint.cone - cone.swing;
+        let back = -cone.swing_axis;
+        solve_axial(
+            [a, b],
+            back,
+            room,
+            Bound::AtLeast,
+            &mut impulses.along,
+            pass,
+        );
+    }
+    if let Some((lo, hi)) = joint.limits {
+        let t = cone.twist_axis;
+        solve_axial(
+            [a, b],
+            t,
+            cone.twist - lo,
+            Bound::AtLeast,
+            &mut impulses.lower,
+            pass,
+        );
+        solve_axial(
+            [a, b],
+            -t,
+            hi - cone.twist,
+            Bound::AtLeast,
+            &mut impulses.upper,
+            pass,
+        );
+    }
 }
 
 /// What drives a hinge or slider along its axis in one pass: its motor's and servo's rows
@@ -494,6 +575,13 @@ fn apply_held_impulses(joint: &Joint, [a, b]: [&mut BodyView; 2]) {
         JointKind::Distance => {
             let n = d.normalize_or_zero();
             (n * (i.along + i.lower - i.upper), g.ra)
+        }
+        JointKind::ConeTwist => {
+            let cone = ConeGeometry::of(joint, a, b);
+            let turn = -cone.swing_axis * i.along + cone.twist_axis * (i.lower - i.upper);
+            a.push(DVec3::ZERO, -turn);
+            b.push(DVec3::ZERO, turn);
+            return;
         }
         JointKind::Ball | JointKind::Fixed => return,
     };
