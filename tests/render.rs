@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use glam::Vec3;
 use image::{Rgba, RgbaImage};
 use rigid::physics::BroadPhaseKind;
-use rigid::render::lines::{AABB_COLOR, BROAD_PHASE_COLOR, GRID_CELL_COLOR};
+use rigid::render::lines::{AABB_COLOR, BROAD_PHASE_COLOR, GRID_CELL_COLOR, JOINT_COLOR};
 use rigid::render::renderer::SLEEP_COLOR;
 use rigid::render::{Gpu, OrbitCamera, Overlays, headless};
 use rigid::sim::{Command, Simulation, Snapshot};
@@ -303,6 +303,19 @@ fn assert_overlay_draws(
         "{what} drew only {with} pixels of its colour"
     );
     assert!(without < 20, "{without} {what}-coloured pixels with it off");
+}
+
+/// The joint overlay, on by default, draws the cradle's strings (ten 1 m strings, the balls'
+/// anchors between them) in the joint colour; off, none of it.
+#[test]
+fn joint_overlay_draws_the_cradles_strings_only_when_on() {
+    let snapshot = simulate("cradle_strings", 30);
+    let on = Overlays::default();
+    let off = Overlays {
+        joints: false,
+        ..Overlays::default()
+    };
+    assert_overlay_draws(&snapshot, (on, off), JOINT_COLOR, 300, "joint overlay");
 }
 
 #[test]

@@ -188,7 +188,7 @@ fn a_key_spawns_at_the_cursor() {
         return;
     }
     // falling_box: this pixel lies on the platform's top face, left of the cube.
-    let cursor = (640, 500);
+    let cursor = (620, 505);
     let shot = screenshot_path("spawn_at_cursor.png");
     // Without a window manager the window gets the keyboard only once focused; the second
     // move makes sure the viewer saw the cursor inside its view.

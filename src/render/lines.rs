@@ -1,9 +1,10 @@
-//! Line overlays as vertex pairs: the ground grid, bounding boxes, velocity vectors and any
-//! segments the simulation supplies (contacts).
+//! Line overlays as vertex pairs: the ground grid, bounding boxes, velocity vectors, joints
+//! and any segments the simulation supplies (contacts).
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
+use crate::sim::snapshot::{BodyPose, JointSketch};
 use crate::sim::{BodyState, LineSegment};
 
 #[repr(C)]
@@ -24,6 +25,11 @@ pub const BROAD_PHASE_COLOR: [f32; 3] = [0.1, 0.9, 0.9];
 pub const GRID_CELL_COLOR: [f32; 3] = [0.95, 0.2, 0.85];
 /// The velocity arrows.
 pub const VELOCITY_COLOR: [f32; 3] = [0.1, 0.9, 1.0];
+/// Lime, apart from the contacts' yellow and orange: the joints.
+pub const JOINT_COLOR: [f32; 3] = [0.45, 1.0, 0.2];
+/// Half the length of a drawn joint axis, and half the size of the cross at an anchor, m.
+const JOINT_AXIS_HALF: f32 = 0.2;
+const JOINT_CROSS_HALF: f32 = 0.04;
 const GRID_COLOR: [f32; 4] = [0.35, 0.38, 0.42, 0.6];
 
 /// Grid half-size (m) and spacing: enough to ground every built-in scene.
@@ -108,6 +114,28 @@ impl LineList {
         }
     }
 
+    /// Adds a joint at its bodies' drawn `poses` (a, b): the anchors joined (a rod or rope's
+    /// length; a point otherwise), origin to anchor on each moving body, a cross at a's
+    /// anchor and the axis through it.
+    pub fn joint(&mut self, sketch: &JointSketch, poses: [BodyPose; 2]) {
+        let color = [JOINT_COLOR[0], JOINT_COLOR[1], JOINT_COLOR[2], 1.0];
+        let at = |k: usize| poses[k].position + poses[k].rotation * sketch.anchors[k];
+        let anchors = [at(0), at(1)];
+        self.segment(anchors[0], anchors[1], color);
+        for k in (0..2).filter(|&k| sketch.moving[k]) {
+            self.segment(poses[k].position, anchors[k], color);
+        }
+        let anchor_a = anchors[0];
+        for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
+            let arm = axis * JOINT_CROSS_HALF;
+            self.segment(anchor_a - arm, anchor_a + arm, color);
+        }
+        if let Some(axis) = sketch.axis {
+            let arm = poses[0].rotation * axis * JOINT_AXIS_HALF;
+            self.segment(anchor_a - arm, anchor_a + arm, color);
+        }
+    }
+
     /// Adds the simulation's segments (contacts, the drag spring), opaque in their own
     /// colours.
     pub fn segments(&mut self, segments: &[LineSegment]) {
@@ -119,7 +147,57 @@ impl LineList {
 
 #[cfg(test)]
 mod tests {
+    use glam::Quat;
+
     use super::*;
+
+    /// A joint's lines end at its anchors, carried by the bodies' poses.
+    #[test]
+    fn a_joint_is_drawn_between_its_anchors_at_the_poses() {
+        let sketch = JointSketch {
+            bodies: [0, 1],
+            anchors: [Vec3::new(0.0, -0.5, 0.0), Vec3::new(0.0, 0.5, 0.0)],
+            axis: Some(Vec3::Z),
+            moving: [true, true],
+        };
+        let turned = Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
+        let poses = [
+            BodyPose {
+                position: Vec3::ZERO,
+                rotation: Quat::IDENTITY,
+            },
+            BodyPose {
+                position: Vec3::new(0.0, -2.0, 0.0),
+                rotation: turned,
+            },
+        ];
+        let mut lines = LineList::default();
+        lines.joint(&sketch, poses);
+        let at = |k: usize| Vec3::from(lines.vertices[k].position);
+        // Anchor a → anchor b (b turned a quarter about x: its anchor (0, 0.5, 0) at z = 0.5),
+        // then origin → anchor on each body.
+        assert!(at(0).distance(Vec3::new(0.0, -0.5, 0.0)) < 1e-6);
+        assert!(
+            at(1).distance(Vec3::new(0.0, -2.0, 0.5)) < 1e-6,
+            "{}",
+            at(1)
+        );
+        assert!(at(2).distance(Vec3::ZERO) < 1e-6 && at(3).distance(at(0)) < 1e-6);
+        assert!(at(4).distance(poses[1].position) < 1e-6 && at(5).distance(at(1)) < 1e-6);
+        // A static body's arm is left out.
+        let mut fixed_a = LineList::default();
+        let sketch = JointSketch {
+            moving: [false, true],
+            ..sketch
+        };
+        fixed_a.joint(&sketch, poses);
+        assert_eq!(fixed_a.vertices.len(), lines.vertices.len() - 2);
+        // The axis (last segment) through a's anchor along a's z.
+        let n = lines.vertices.len();
+        let axis =
+            Vec3::from(lines.vertices[n - 1].position) - Vec3::from(lines.vertices[n - 2].position);
+        assert!((axis.normalize() - Vec3::Z).length() < 1e-6);
+    }
 
     #[test]
     fn aabb_has_twelve_edges_on_the_box() {

@@ -11,7 +11,7 @@ use crate::render::gpu::Gpu;
 use crate::render::lines::{AABB_COLOR, BROAD_PHASE_COLOR, GRID_CELL_COLOR, LineList};
 use crate::render::mesh;
 use crate::render::pipelines::{DEPTH_FORMAT, Globals, Instance, Pipelines};
-use crate::sim::snapshot::BodyPose;
+use crate::sim::snapshot::{BodyPose, JointSketch};
 use crate::sim::{LineSegment, Snapshot};
 
 /// Multisampling: smooth edges for lines and silhouettes, cheap even on software adapters.
@@ -48,6 +48,9 @@ pub struct Overlays {
     pub velocities: bool,
     /// The snapshot's contact points and normals (on by default).
     pub contacts: bool,
+    /// The joints: a line from each body's origin to its anchor and between the anchors,
+    /// and the axis a hinge, slider or cone-twist turns or slides about (on by default).
+    pub joints: bool,
     /// The broad phase's boxes of awake bodies (bounds grown by the step's reach).
     pub broad_phase: bool,
     /// Draw sleeping bodies in `SLEEP_COLOR` (on by default).
@@ -61,6 +64,7 @@ impl Default for Overlays {
             aabbs: false,
             velocities: false,
             contacts: true,
+            joints: true,
             broad_phase: false,
             sleep_tint: true,
         }
@@ -356,6 +360,15 @@ impl SceneRenderer {
         }
         if frame.overlays.contacts {
             lines.segments(&snapshot.lines);
+        }
+        if frame.overlays.joints {
+            let shown = |s: &&JointSketch| s.bodies.iter().all(|&i| snapshot.bodies[i].visible);
+            for sketch in snapshot.joints.iter().filter(shown) {
+                lines.joint(
+                    sketch,
+                    [frame.poses[sketch.bodies[0]], frame.poses[sketch.bodies[1]]],
+                );
+            }
         }
         if frame.overlays.broad_phase {
             for &(min, max) in &snapshot.broad_phase_boxes {

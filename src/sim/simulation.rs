@@ -11,7 +11,8 @@ use glam::{DVec3, Vec3};
 
 use crate::physics::collision::broad_phase::UniformGrid;
 use crate::physics::{
-    Aabb, BroadPhaseKind, EnvironmentForce, Fault, Material, Motion, RemoveError, RigidBody, World,
+    Aabb, BroadPhaseKind, EnvironmentForce, Fault, JointKind, Material, Motion, RemoveError,
+    RigidBody, World,
 };
 use crate::scene::{self, ScriptedMotion};
 use crate::sim::command::{Command, DT_RANGE, SpawnKind};
@@ -19,8 +20,8 @@ use crate::sim::recording::{FileCommands, RecordedCommand, Recording, RecordingE
 use crate::sim::saved_world::SavedWorld;
 use crate::sim::scenes::{self, CameraHint};
 use crate::sim::snapshot::{
-    BodyPose, BodyState, Counters, HistorySample, LineSegment, MAX_FAULTS_SHOWN, MaterialSummary,
-    ShapeTable, SimSettings, Snapshot,
+    BodyPose, BodyState, Counters, HistorySample, JointSketch, LineSegment, MAX_FAULTS_SHOWN,
+    MaterialSummary, ShapeTable, SimSettings, Snapshot,
 };
 
 use crate::sim::{spawn, world_bounds};
@@ -353,6 +354,7 @@ impl Simulation {
             broad_phase_boxes: broad_phase_boxes(&self.world),
             broad_phase_cells: broad_phase_cells(&self.world),
             lines: contact_lines(&self.world),
+            joints: joint_sketches(&self.world),
             counters: self.counters(),
             materials: self.material_summaries(),
             history: self.history.iter().copied().collect(),
@@ -756,6 +758,33 @@ fn broad_phase_cells(world: &World) -> Vec<(Vec3, Vec3)> {
         .collect()
 }
 
+/// Each joint where the viewer draws it (see `JointSketch`).
+fn joint_sketches(world: &World) -> Vec<JointSketch> {
+    let bodies = world.bodies();
+    world
+        .joints()
+        .map(|(_, joint)| {
+            let [a, b] = [joint.body_a.index(), joint.body_b.index()];
+            // From the centre of mass to the drawn origin, in body axes: + local_center.
+            let from_origin =
+                |index: usize, anchor: DVec3| (anchor + bodies[index].local_center).as_vec3();
+            let turns = !matches!(
+                joint.kind,
+                JointKind::Ball | JointKind::Fixed | JointKind::Distance
+            );
+            JointSketch {
+                bodies: [a, b],
+                anchors: [
+                    from_origin(a, joint.local_anchor_a),
+                    from_origin(b, joint.local_anchor_b),
+                ],
+                axis: turns.then(|| joint.local_axis_a.as_vec3()),
+                moving: [bodies[a].motion.moves(), bodies[b].motion.moves()],
+            }
+        })
+        .collect()
+}
+
 /// Length of a drawn contact normal, m.
 const NORMAL_LENGTH: f32 = 0.12;
 /// Only contacts this close are drawn, m: speculative ones further apart are not touching.
@@ -954,7 +983,7 @@ mod tests {
 
     #[test]
     fn bodies_below_the_floor_leave_the_world_and_are_counted() {
-        // falling_box: the platform's bottom is y = -0.5 and its side 5 m, so the floor lies
+        // falling_box: the platform's bottom is y = -0.5 and its side 3 m, so the floor lies
         // the 20 m margin below it, far below anything the camera shows.
         let mut sim = Simulation::new("falling_box").unwrap();
         assert_eq!(sim.floor, -20.5);

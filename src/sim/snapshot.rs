@@ -63,6 +63,22 @@ pub struct BodyState {
     pub angular_velocity: Vec3,
 }
 
+/// A joint as the viewer draws it: its two bodies (indices into `Snapshot::bodies`), where it
+/// holds each (in the body's axes, from its drawn origin `BodyPose::position`), and the axis
+/// it turns or slides about, in body a's axes (hinge, slider, cone-twist).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointSketch {
+    /// Body a, body b.
+    pub bodies: [usize; 2],
+    /// On a, on b.
+    pub anchors: [Vec3; 2],
+    /// A unit axis, or None.
+    pub axis: Option<Vec3>,
+    /// Whether each body moves: the arm from a static body's origin to its anchor is not
+    /// drawn (a frame's centre is not where it holds a string).
+    pub moving: [bool; 2],
+}
+
 /// A coloured line in world space, drawn as an overlay (contact normals, debug vectors).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LineSegment {
@@ -198,6 +214,8 @@ pub struct Snapshot {
     pub broad_phase_cells: Vec<(Vec3, Vec3)>,
     /// Contact points (small crosses) and normals of the last step.
     pub lines: Vec<LineSegment>,
+    /// The joints, to be drawn at the bodies' drawn poses.
+    pub joints: Vec<JointSketch>,
     /// Figures of the run and its last step.
     pub counters: Counters,
     /// The materials by name, in the order their first body appears.

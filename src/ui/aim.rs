@@ -66,19 +66,20 @@ mod tests {
 
     #[test]
     fn a_ray_that_hits_the_scene_spawns_just_above_the_hit() {
-        // falling_box: the platform's top face is y = 0, ±2.5 m; the cube stands at the origin.
+        // falling_box: the platform's top face is y = 0, ±1.5 m; the cube (±0.5 m) stands at
+        // the origin.
         let snapshot = Simulation::new("falling_box")
             .unwrap()
             .snapshot(Instant::now());
         let poses: Vec<_> = snapshot.bodies.iter().map(|b| b.pose).collect();
         let camera = OrbitCamera::from_hint(&snapshot.camera);
         let ray = Ray {
-            origin: Vec3::new(1.5, 5.0, 1.8),
+            origin: Vec3::new(1.1, 5.0, 1.2),
             direction: -Vec3::Y,
         };
         let spot = spawn_position(SpawnKind::Box, &ray, &camera, &snapshot, &poses);
         let radius = spawn::bounding_radius(SpawnKind::Box);
-        assert!((spot.x - 1.5).abs() < 1e-6 && (spot.z - 1.8).abs() < 1e-6);
+        assert!((spot.x - 1.1).abs() < 1e-6 && (spot.z - 1.2).abs() < 1e-6);
         assert!((spot.y - (radius + 0.02)).abs() < 1e-4, "{spot}");
         assert!(on_screen(&camera, spot));
     }

@@ -271,6 +271,7 @@ impl Panel {
             ui.checkbox(&mut o.aabbs, "AABBs");
             ui.checkbox(&mut o.velocities, "velocities");
             ui.checkbox(&mut o.contacts, "contacts");
+            ui.checkbox(&mut o.joints, "joints");
             ui.checkbox(&mut o.broad_phase, "broad phase");
             ui.checkbox(&mut o.sleep_tint, "sleeping colour");
         });
