@@ -1,7 +1,10 @@
 //! A texture to render into without a window, and its read-back to an RGBA image.
 
-use image::RgbaImage;
+use std::path::Path;
 
+use image::{ImageFormat, RgbaImage};
+
+use crate::output_file::write_atomically_with;
 use crate::render::gpu::Gpu;
 
 /// A 2D colour texture to draw into and read back.
@@ -91,6 +94,17 @@ impl OffscreenTarget {
         }
         RgbaImage::from_raw(width, height, pixels).ok_or_else(|| "bad image size".to_string())
     }
+}
+
+/// Saves `image` as a PNG at `path`, whole or not at all (see `output_file`); the error
+/// names the path.
+pub fn save_png(image: &RgbaImage, path: &Path) -> Result<(), String> {
+    write_atomically_with(path, |file| {
+        image
+            .write_to(file, ImageFormat::Png)
+            .map_err(std::io::Error::other)
+    })
+    .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
 fn is_bgra(format: wgpu::TextureFormat) -> bool {
