@@ -1,6 +1,6 @@
-//! Writing the files users keep (saved worlds, snapshots, recordings, images) so that a failed write
-//! never costs the file that was there: the text goes to a temporary file beside it, which
-//! replaces the old one only once it is whole on disk.
+//! Writing the files users keep (saved worlds, snapshots, recordings, images) so that a
+//! failed write never costs the file that was there: the output goes to a temporary file
+//! beside it, which replaces the old one only once it is whole on disk.
 
 use std::fs::File;
 use std::io::{BufWriter, Error, ErrorKind, Write};

@@ -121,3 +121,38 @@ fn extent((width, height): (u32, u32)) -> wgpu::Extent3d {
         depth_or_array_layers: 1,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch_dir(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("rigid-png-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    #[test]
+    fn a_saved_png_reads_back_pixel_for_pixel() {
+        let dir = scratch_dir("round-trip");
+        let path = dir.join("shot.png");
+        let image = RgbaImage::from_fn(7, 5, |x, y| {
+            image::Rgba([x as u8 * 30, y as u8 * 50, 9, 255])
+        });
+        save_png(&image, &path).unwrap();
+        assert_eq!(image::open(&path).unwrap().to_rgba8(), image);
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        assert_eq!(left.len(), 1, "a temporary file was left: {left:?}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn a_png_that_cannot_be_written_is_an_error_naming_the_path() {
+        let dir = scratch_dir("missing-folder");
+        let path = dir.join("no-such-folder").join("shot.png");
+        let error = save_png(&RgbaImage::new(2, 2), &path).unwrap_err();
+        assert!(error.contains("no-such-folder"), "{error}");
+        assert!(!path.exists());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}

@@ -12,6 +12,7 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
+use crate::render::offscreen::save_png;
 use crate::render::{FrameInput, OrbitCamera, Ray, Viewport};
 use crate::sim::snapshot::BodyPose;
 use crate::sim::{
@@ -20,7 +21,7 @@ use crate::sim::{
 use crate::ui::aim;
 use crate::ui::display::{Display, UiFrame};
 use crate::ui::drag::Drag;
-use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel, PanelRequests};
+use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel, PanelRequests, screenshot_file};
 use crate::ui::picking::{self, Pick};
 
 /// How to start the viewer.
@@ -304,6 +305,7 @@ impl App {
         let poses = snapshot.poses_at(snapshot.blend_factor(now));
 
         let (ui_frame, requests) = self.run_panel(&snapshot);
+        let screenshot_asked = requests.screenshot;
         for kind in requests.spawns {
             self.spawn(kind, None);
         }
@@ -335,19 +337,33 @@ impl App {
             viewport: self.viewport,
         };
         let exiting = self.exit_due();
-        let capture = exiting && self.options.screenshot.is_some();
+        let exit_screenshot = self.options.screenshot.as_ref().filter(|_| exiting);
+        let capture = exit_screenshot.is_some() || screenshot_asked;
         let Some(display) = self.display.as_mut() else {
             return;
         };
-        match display.draw(&frame, ui_frame, capture) {
-            Ok(Some(image)) => {
-                let path = self.options.screenshot.clone().unwrap_or_default();
-                if let Err(e) = image.save(&path) {
-                    return self.fail(event_loop, format!("cannot save {}: {e}", path.display()));
-                }
+        let image = match display.draw(&frame, ui_frame, capture) {
+            Ok(image) => image,
+            Err(e) if screenshot_asked && exit_screenshot.is_none() => {
+                self.panel.set_screenshot_note(e);
+                None
             }
-            Ok(None) => {}
             Err(e) => return self.fail(event_loop, e),
+        };
+        if let Some(image) = image {
+            if screenshot_asked {
+                let path = screenshot_file(snapshot.counters.steps);
+                let note = match save_png(&image, &path) {
+                    Ok(()) => format!("saved {}", path.display()),
+                    Err(e) => e,
+                };
+                self.panel.set_screenshot_note(note);
+            }
+            if let Some(path) = exit_screenshot
+                && let Err(e) = save_png(&image, path)
+            {
+                return self.fail(event_loop, e);
+            }
         }
         #[cfg(target_arch = "wasm32")]
         crate::web::publish_status(&snapshot);
