@@ -29,6 +29,17 @@ pub const DEFAULT_FPS: u32 = 25;
 /// smooth at a tenth of the cost of 1.
 const QUANTISER_SPEED: i32 = 10;
 
+/// What a recording draws: the bodies on the grid. Contact markers and the sleep colour show
+/// the solver's state, which flickers from frame to frame and hides the motion.
+const RECORDED_OVERLAYS: Overlays = Overlays {
+    grid: true,
+    aabbs: false,
+    velocities: false,
+    contacts: false,
+    broad_phase: false,
+    sleep_tint: false,
+};
+
 /// What to record: how long, how often and how large.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Take {
@@ -95,7 +106,7 @@ pub fn record(
             }
             let snapshot = headless::still_snapshot(&sim);
             let image = painter
-                .paint(gpu, &snapshot, Overlays::default())
+                .paint(gpu, &snapshot, RECORDED_OVERLAYS)
                 .map_err(RecordError::Other)?;
             encoder
                 .encode_frame(Frame::from_parts(image, 0, 0, delay))
