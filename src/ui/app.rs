@@ -6,6 +6,7 @@ use std::sync::Arc;
 use web_time::Instant;
 
 use glam::{DVec3, Vec2};
+use image::RgbaImage;
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
@@ -337,38 +338,52 @@ impl App {
             viewport: self.viewport,
         };
         let exiting = self.exit_due();
-        let exit_screenshot = self.options.screenshot.as_ref().filter(|_| exiting);
-        let capture = exit_screenshot.is_some() || screenshot_asked;
+        let exit_capture = exiting && self.options.screenshot.is_some();
         let Some(display) = self.display.as_mut() else {
             return;
         };
-        let image = match display.draw(&frame, ui_frame, capture) {
+        let image = match display.draw(&frame, ui_frame, exit_capture || screenshot_asked) {
             Ok(image) => image,
-            Err(e) if screenshot_asked && exit_screenshot.is_none() => {
+            // The button's failure is the panel's to tell; the run goes on.
+            Err(e) if !exit_capture => {
                 self.panel.set_screenshot_note(e);
                 None
             }
             Err(e) => return self.fail(event_loop, e),
         };
-        if let Some(image) = image {
-            if screenshot_asked {
-                let path = screenshot_file(snapshot.counters.steps);
-                let note = match save_png(&image, &path) {
-                    Ok(()) => format!("saved {}", path.display()),
-                    Err(e) => e,
-                };
-                self.panel.set_screenshot_note(note);
-            }
-            if let Some(path) = exit_screenshot
-                && let Err(e) = save_png(&image, path)
-            {
-                return self.fail(event_loop, e);
-            }
+        if let Some(image) = image
+            && let Err(e) = self.save_captured(&image, screenshot_asked, exiting, &snapshot)
+        {
+            return self.fail(event_loop, e);
         }
         #[cfg(target_arch = "wasm32")]
         crate::web::publish_status(&snapshot);
         if exiting {
             event_loop.exit();
+        }
+    }
+
+    /// Saves a captured frame where it was asked for: the Screenshot button's file (the panel
+    /// tells what became of it) and, when exiting, the `--screenshot` file, whose failure is
+    /// the run's.
+    fn save_captured(
+        &mut self,
+        image: &RgbaImage,
+        button: bool,
+        exiting: bool,
+        snapshot: &Snapshot,
+    ) -> Result<(), String> {
+        if button {
+            let path = screenshot_file(snapshot.counters.steps);
+            let note = match save_png(image, &path) {
+                Ok(()) => format!("saved {}", path.display()),
+                Err(e) => e,
+            };
+            self.panel.set_screenshot_note(note);
+        }
+        match self.options.screenshot.as_ref().filter(|_| exiting) {
+            Some(path) => save_png(image, path),
+            None => Ok(()),
         }
     }
 
