@@ -1,16 +1,27 @@
-//! Writing the files users keep (saved worlds, snapshots, recordings) so that a failed write
-//! never costs the file that was there: the text goes to a temporary file beside it, which
-//! replaces the old one only once it is whole on disk.
+//! Writing the files users keep (saved worlds, snapshots, recordings, images) so that a
+//! failed write never costs the file that was there: the output goes to a temporary file
+//! beside it, which replaces the old one only once it is whole on disk.
 
-use std::io::{Error, ErrorKind, Write};
+use std::fs::File;
+use std::io::{BufWriter, Error, ErrorKind, Write};
 use std::path::{Path, PathBuf};
 
 /// Writes `text` to `path` through a temporary file in the same folder, renamed over `path`
 /// once written and synced. On any error the temporary file is removed and `path` is left
 /// as it was.
 pub fn write_atomically(path: &Path, text: &str) -> Result<(), Error> {
+    write_atomically_with(path, |file| file.write_all(text.as_bytes()))
+}
+
+/// As `write_atomically`, for output made as it is written (images, animations): `write`
+/// fills the temporary file, and its error leaves `path` as it was.
+pub fn write_atomically_with<E: From<Error>>(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> Result<(), E>,
+) -> Result<(), E> {
     let temporary = temporary_beside(path)?;
-    let written = write_synced(&temporary, text).and_then(|()| std::fs::rename(&temporary, path));
+    let written = write_synced(&temporary, write)
+        .and_then(|()| std::fs::rename(&temporary, path).map_err(E::from));
     if written.is_err() {
         // Best effort: the error that matters is the write's.
         let _ = std::fs::remove_file(&temporary);
@@ -29,10 +40,14 @@ fn temporary_beside(path: &Path) -> Result<PathBuf, Error> {
     Ok(path.with_file_name(temporary_name))
 }
 
-fn write_synced(path: &Path, text: &str) -> Result<(), Error> {
-    let mut file = std::fs::File::create(path)?;
-    file.write_all(text.as_bytes())?;
-    file.sync_all()
+fn write_synced<E: From<Error>>(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> Result<(), E>,
+) -> Result<(), E> {
+    let mut file = BufWriter::new(File::create(path)?);
+    write(&mut file)?;
+    file.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+    Ok(())
 }
 
 #[cfg(test)]

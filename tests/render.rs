@@ -11,11 +11,12 @@
 use std::path::PathBuf;
 
 use glam::Vec3;
-use image::{Rgba, RgbaImage};
+use image::codecs::gif::GifDecoder;
+use image::{AnimationDecoder, Rgba, RgbaImage};
 use rigid::physics::BroadPhaseKind;
 use rigid::render::lines::{AABB_COLOR, BROAD_PHASE_COLOR, GRID_CELL_COLOR, JOINT_COLOR};
-use rigid::render::renderer::SLEEP_COLOR;
-use rigid::render::{Gpu, OrbitCamera, Overlays, headless};
+use rigid::render::renderer::{PALETTE, SLEEP_COLOR};
+use rigid::render::{Gpu, OrbitCamera, Overlays, headless, record};
 use rigid::sim::{Command, Simulation, Snapshot};
 
 const SIZE: (u32, u32) = (480, 320);
@@ -460,4 +461,214 @@ fn render_snapshot_refuses_sizes_the_adapter_cannot_draw() {
     }
     let image = headless::render_snapshot(&gpu, &snapshot, Overlays::default(), (1, 1)).unwrap();
     assert_eq!(image.dimensions(), (1, 1));
+}
+
+/// One second of falling_box at 10 fps, 160×120.
+const RECORD_TAKE: record::Take = record::Take {
+    seconds: 1.0,
+    fps: 10,
+    size: (160, 120),
+};
+
+fn decode_gif(path: &std::path::Path) -> Vec<RgbaImage> {
+    let file = std::io::BufReader::new(std::fs::File::open(path).expect("the GIF exists"));
+    let decoder = GifDecoder::new(file).expect("a GIF");
+    let frames = decoder.into_frames().collect_frames().expect("GIF frames");
+    frames.into_iter().map(|f| f.into_buffer()).collect()
+}
+
+/// Mean absolute difference per channel between two images of one size, of 255.
+fn mean_abs_difference(a: &RgbaImage, b: &RgbaImage) -> f64 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let total: u64 = a
+        .as_raw()
+        .iter()
+        .zip(b.as_raw())
+        .map(|(x, y)| u64::from(x.abs_diff(*y)))
+        .sum();
+    total as f64 / a.as_raw().len() as f64
+}
+
+/// The pixels of the lit colour `color` (gamma-encoded): lighting scales a colour, so a
+/// pixel counts when it is `color` scaled by 0.4 to 1.2, within 25/255 per channel.
+fn shades_of(image: &RgbaImage, color: [f32; 3]) -> Vec<(u32, u32)> {
+    let norm: f32 = color.iter().map(|c| c * c).sum();
+    image
+        .enumerate_pixels()
+        .filter(|(_, _, p)| {
+            let pixel = [0, 1, 2].map(|k| f32::from(p.0[k]) / 255.0);
+            let scale = (0..3).map(|k| pixel[k] * color[k]).sum::<f32>() / norm;
+            (0.4..=1.2).contains(&scale)
+                && (0..3).all(|k| (pixel[k] - scale * color[k]).abs() <= 25.0 / 255.0)
+        })
+        .map(|(x, y, _)| (x, y))
+        .collect()
+}
+
+fn mean_row(pixels: &[(u32, u32)]) -> f64 {
+    pixels.iter().map(|&(_, y)| f64::from(y)).sum::<f64>() / pixels.len() as f64
+}
+
+/// One second of falling_box at 10 fps, 160×120: ten frames in which the box falls onto its
+/// pedestal.
+#[test]
+fn a_recording_holds_seconds_times_fps_frames_of_the_moving_scene() {
+    let gpu = gpu();
+    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("falling_box.gif");
+    let _ = std::fs::remove_file(&path);
+    let mut reported = Vec::new();
+    let frames = record::record(
+        &gpu,
+        "falling_box",
+        RECORD_TAKE,
+        &path,
+        &mut |done, total| reported.push((done, total)),
+    )
+    .expect("record");
+    let images = decode_gif(&path);
+    assert_eq!(frames, 10, "1 s × 10 fps");
+    assert_eq!(images.len(), 10, "frames in the GIF");
+    assert_eq!(reported.last(), Some(&(10, 10)));
+    assert!(images.iter().all(|i| i.dimensions() == RECORD_TAKE.size));
+
+    let (first, last) = (&images[0], &images[9]);
+    let difference = mean_abs_difference(first, last);
+    let falling = simulate("falling_box", 0)
+        .bodies
+        .iter()
+        .position(|b| b.is_dynamic)
+        .expect("a dynamic body");
+    let colour = PALETTE[falling % PALETTE.len()];
+    let (body_first, body_last) = (shades_of(first, colour), shades_of(last, colour));
+    eprintln!(
+        "first vs last frame: mean difference {difference:.2}/255; body pixels {} then {}, \
+         mean row {:.1} then {:.1}",
+        body_first.len(),
+        body_last.len(),
+        mean_row(&body_first),
+        mean_row(&body_last)
+    );
+    assert!(
+        difference > 0.5,
+        "first and last frames differ by {difference:.2}/255"
+    );
+    assert!(body_first.len() > 80, "{} body pixels", body_first.len());
+    assert!(body_last.len() > 80, "{} body pixels", body_last.len());
+    // The box falls about 2 m: tens of rows at this size.
+    let fallen = mean_row(&body_last) - mean_row(&body_first);
+    assert!(fallen > 20.0, "the box moved {fallen:.1} rows down");
+}
+
+/// Lengths, rates and sizes a recording cannot have are errors that name the limit, and
+/// leave no file.
+#[test]
+fn record_refuses_impossible_takes_and_writes_nothing() {
+    let gpu = gpu();
+    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("refused.gif");
+    let _ = std::fs::remove_file(&path);
+    let max = gpu.device.limits().max_texture_dimension_2d;
+    let takes = [
+        (
+            record::Take {
+                seconds: 61.0,
+                fps: 30,
+                ..RECORD_TAKE
+            },
+            "at most 1800",
+        ),
+        (
+            record::Take {
+                seconds: 1e300,
+                ..RECORD_TAKE
+            },
+            "at most 1800",
+        ),
+        (
+            record::Take {
+                fps: 0,
+                ..RECORD_TAKE
+            },
+            "[1, 50]",
+        ),
+        (
+            record::Take {
+                fps: 51,
+                ..RECORD_TAKE
+            },
+            "[1, 50]",
+        ),
+        (
+            record::Take {
+                seconds: 0.0,
+                ..RECORD_TAKE
+            },
+            "at least one frame",
+        ),
+        (
+            record::Take {
+                seconds: -1.0,
+                ..RECORD_TAKE
+            },
+            "at least one frame",
+        ),
+        (
+            record::Take {
+                seconds: f64::NAN,
+                ..RECORD_TAKE
+            },
+            "at least one frame",
+        ),
+        (
+            record::Take {
+                size: (0, 10),
+                ..RECORD_TAKE
+            },
+            "must lie in [1,",
+        ),
+        (
+            record::Take {
+                size: (10, max + 1),
+                ..RECORD_TAKE
+            },
+            "must lie in [1,",
+        ),
+    ];
+    for (take, expected) in takes {
+        let error = record::record(&gpu, "falling_box", take, &path, &mut |_, _| {})
+            .expect_err("an impossible take");
+        assert!(error.contains(expected), "{take:?}: {error}");
+        assert!(!path.exists(), "{take:?} wrote a file");
+    }
+    let error = record::record(&gpu, "no_such_scene", RECORD_TAKE, &path, &mut |_, _| {})
+        .expect_err("an unknown scene");
+    assert!(error.contains("no_such_scene"), "{error}");
+    assert!(!path.exists());
+}
+
+/// Frame counts over the limit and bad sizes are refused with exit code 2 before any device
+/// is opened, so this needs no adapter.
+#[test]
+fn the_record_command_refuses_impossible_takes_with_exit_code_2() {
+    let output_path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("record-refused.gif");
+    let _ = std::fs::remove_file(&output_path);
+    let cases: [(&[&str], &str); 5] = [
+        (&["--seconds", "61", "--fps", "30"], "at most 1800"),
+        (&["--seconds", "-1"], "at least one frame"),
+        (&["--fps", "0"], "[1, 50]"),
+        (&["--width", "0"], "[1, 16384]"),
+        (&["--height", "100000"], "[1, 16384]"),
+    ];
+    for (args, expected) in cases {
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_rigid"))
+            .arg("record")
+            .arg(&output_path)
+            .args(args)
+            .output()
+            .expect("run rigid record");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(!output_path.exists());
+    }
 }

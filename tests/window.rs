@@ -229,3 +229,39 @@ fn a_key_spawns_at_the_cursor() {
         "the box is drawn around {centre:?}, the cursor was at {cursor:?}"
     );
 }
+
+/// The panel's Screenshot button, right of Reset.
+const SCREENSHOT_BUTTON: (u32, u32) = (210, 59);
+
+#[test]
+fn the_screenshot_button_saves_the_window_in_the_working_directory() {
+    if !tools_present("the window test", &missing(&["xvfb-run", "xdotool"])) {
+        return;
+    }
+    let folder = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("screenshot-button");
+    let _ = std::fs::remove_dir_all(&folder);
+    std::fs::create_dir_all(&folder).expect("a scratch folder");
+    let script = format!(
+        "cd '{}' && \"$RIGID\" --exit-after 4 & pid=$!
+         w=$(xdotool search --sync --name '^rigid$' | head -n 1)
+         sleep 2
+         xdotool mousemove --window $w {} {} click 1
+         wait $pid",
+        folder.display(),
+        SCREENSHOT_BUTTON.0,
+        SCREENSHOT_BUTTON.1,
+    );
+    let output = run_in_xvfb(&script);
+    let saved: Vec<PathBuf> = std::fs::read_dir(&folder)
+        .expect("the scratch folder")
+        .map(|entry| entry.expect("an entry").path())
+        .collect();
+    assert_eq!(saved.len(), 1, "{saved:?}");
+    let name = saved[0].file_name().unwrap().to_string_lossy().into_owned();
+    assert!(
+        name.starts_with("rigid-screenshot-") && name.ends_with(".png"),
+        "{name}"
+    );
+    let image = assert_rich_screenshot(&output, &saved[0]);
+    assert_eq!(image.dimensions(), (1280, 720));
+}

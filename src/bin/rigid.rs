@@ -1,5 +1,5 @@
 //! The viewer. With no arguments it opens a window on the default scene; `rigid render`
-//! draws a scene to a PNG without a window.
+//! draws a scene to a PNG and `rigid record` a run to an animated GIF, without a window.
 //! Built for the browser (wasm32), it runs the same viewer in the page `web/index.html`.
 
 #[cfg(target_arch = "wasm32")]
@@ -14,15 +14,19 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(not(target_arch = "wasm32"))]
 mod desktop {
-    use std::path::PathBuf;
+    use std::io::IsTerminal;
+    use std::path::{Path, PathBuf};
     use std::process::ExitCode;
 
     use clap::{Parser, Subcommand};
+    use indicatif::ProgressBar;
 
     use rigid::cli_arg::Utf8Text;
     use rigid::render::Overlays;
     use rigid::render::gpu::Gpu;
     use rigid::render::headless;
+    use rigid::render::offscreen::save_png;
+    use rigid::render::record;
     use rigid::sim::{DEFAULT_SCENE, FileCommands, scene_names};
 
     #[derive(Parser)]
@@ -83,6 +87,35 @@ mod desktop {
             #[arg(long)]
             velocities: bool,
         },
+        /// Run a scene and record it offscreen to an animated GIF, without a window.
+        Record {
+            /// Output GIF.
+            output: PathBuf,
+            #[arg(long, default_value = DEFAULT_SCENE, value_parser = Utf8Text)]
+            scene: String,
+            /// Simulated seconds to record; seconds × fps may be at most 1800 frames.
+            #[arg(long, default_value_t = 5.0, allow_negative_numbers = true)]
+            seconds: f64,
+            /// Frames per simulated second, in [1, 50].
+            #[arg(long, default_value_t = record::DEFAULT_FPS)]
+            fps: u32,
+            /// Frame width, pixels, in [1, 16384] (less where the adapter offers less).
+            #[arg(
+                long,
+                default_value_t = 480,
+                value_parser = image_side,
+                allow_negative_numbers = true
+            )]
+            width: u32,
+            /// Frame height, pixels, in [1, 16384] (less where the adapter offers less).
+            #[arg(
+                long,
+                default_value_t = 320,
+                value_parser = image_side,
+                allow_negative_numbers = true
+            )]
+            height: u32,
+        },
         /// List the built-in scenes.
         Scenes,
     }
@@ -138,6 +171,21 @@ mod desktop {
                 };
                 render(&scene, steps, (width, height), overlays, &output)
             }
+            Some(Command::Record {
+                output,
+                scene,
+                seconds,
+                fps,
+                width,
+                height,
+            }) => {
+                let take = record::Take {
+                    seconds,
+                    fps,
+                    size: (width, height),
+                };
+                record(&scene, take, &output)
+            }
             None => {
                 note_shadowed_file(&cli.scene);
                 rigid::ui::app::run(rigid::ui::app::AppOptions {
@@ -168,15 +216,43 @@ mod desktop {
         steps: u32,
         size: (u32, u32),
         overlays: Overlays,
-        output: &PathBuf,
+        output: &Path,
     ) -> Result<(), Failure> {
         note_shadowed_file(scene);
         let snapshot = headless::simulate(scene, steps)?;
         let gpu = Gpu::offscreen()?;
         headless::check_size(&gpu, size).map_err(|message| Failure { code: 2, message })?;
         let image = headless::render_snapshot(&gpu, &snapshot, overlays, size)?;
-        image
-            .save(output)
-            .map_err(|e| format!("cannot write {}: {e}", output.display()).into())
+        save_png(&image, output).map_err(Failure::from)
+    }
+
+    fn record(scene: &str, take: record::Take, output: &Path) -> Result<(), Failure> {
+        note_shadowed_file(scene);
+        let user_error = |message| Failure { code: 2, message };
+        let frames = take.frame_count().map_err(user_error)?;
+        let gpu = Gpu::offscreen()?;
+        headless::check_size(&gpu, take.size).map_err(user_error)?;
+        // A bar on a terminal only: a log or a pipe gets the summary line alone.
+        let bar = std::io::stderr()
+            .is_terminal()
+            .then(|| ProgressBar::new(u64::from(frames)).with_message("frames"));
+        let mut on_frame = |done: u32, _total: u32| {
+            if let Some(bar) = &bar {
+                bar.set_position(u64::from(done));
+            }
+        };
+        record::record(&gpu, scene, take, output, &mut on_frame)?;
+        if let Some(bar) = bar {
+            bar.finish_and_clear();
+        }
+        println!(
+            "wrote {}: {frames} frames of {}x{}, {} s at {} fps",
+            output.display(),
+            take.size.0,
+            take.size.1,
+            take.seconds,
+            take.fps
+        );
+        Ok(())
     }
 }

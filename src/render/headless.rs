@@ -20,12 +20,17 @@ pub fn simulate(scene: &str, steps: u32) -> Result<Snapshot, String> {
     for _ in 0..steps {
         sim.step();
     }
+    Ok(still_snapshot(&sim))
+}
+
+/// The simulation's state to draw as a still image: the newest state, not a blend with the
+/// step before.
+pub fn still_snapshot(sim: &Simulation) -> Snapshot {
     let mut snapshot = sim.snapshot(Instant::now());
-    // A still image shows the newest state, not a blend with the step before.
     for body in &mut snapshot.bodies {
         body.previous = body.pose;
     }
-    Ok(snapshot)
+    snapshot
 }
 
 /// The largest width or height `rigid render` takes before it opens a device: the largest
@@ -55,23 +60,49 @@ pub fn render_snapshot(
     overlays: Overlays,
     size: (u32, u32),
 ) -> Result<RgbaImage, String> {
-    check_size(gpu, size)?;
-    let camera = OrbitCamera::from_hint(&snapshot.camera);
-    let poses: Vec<_> = snapshot.bodies.iter().map(|b| b.pose).collect();
-    let frame = FrameInput {
-        snapshot,
-        poses: &poses,
-        camera: &camera,
-        overlays,
-        selected: None,
-        extra_lines: &[],
-        viewport: Viewport::full(size),
-    };
-    let target = OffscreenTarget::new(gpu, size, FORMAT);
-    let mut renderer = SceneRenderer::new(gpu, FORMAT);
-    renderer.prepare(gpu, &frame, size);
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    renderer.encode(&mut encoder, &target.view);
-    gpu.queue.submit([encoder.finish()]);
-    target.read(gpu)
+    OffscreenPainter::new(gpu, size)?.paint(gpu, snapshot, overlays)
+}
+
+/// A renderer and its target kept from one image to the next, so that a run of frames (a
+/// recording) builds its pipelines and texture once.
+pub struct OffscreenPainter {
+    renderer: SceneRenderer,
+    target: OffscreenTarget,
+}
+
+impl OffscreenPainter {
+    /// A painter of images of `size` pixels; a size the adapter cannot draw is an error.
+    pub fn new(gpu: &Gpu, size: (u32, u32)) -> Result<Self, String> {
+        check_size(gpu, size)?;
+        Ok(OffscreenPainter {
+            renderer: SceneRenderer::new(gpu, FORMAT),
+            target: OffscreenTarget::new(gpu, size, FORMAT),
+        })
+    }
+
+    /// Draws `snapshot` from its scene's camera and reads the image back.
+    pub fn paint(
+        &mut self,
+        gpu: &Gpu,
+        snapshot: &Snapshot,
+        overlays: Overlays,
+    ) -> Result<RgbaImage, String> {
+        let size = self.target.size;
+        let camera = OrbitCamera::from_hint(&snapshot.camera);
+        let poses: Vec<_> = snapshot.bodies.iter().map(|b| b.pose).collect();
+        let frame = FrameInput {
+            snapshot,
+            poses: &poses,
+            camera: &camera,
+            overlays,
+            selected: None,
+            extra_lines: &[],
+            viewport: Viewport::full(size),
+        };
+        self.renderer.prepare(gpu, &frame, size);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        self.renderer.encode(&mut encoder, &self.target.view);
+        gpu.queue.submit([encoder.finish()]);
+        self.target.read(gpu)
+    }
 }

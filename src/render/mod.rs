@@ -2,7 +2,8 @@
 //! body pipeline and line overlays, the orbit camera.
 //!
 //! Reading order: `gpu` → `mesh` / `lines` (CPU geometry) → `pipelines` → `renderer`
-//! (one frame) → `offscreen` / `headless` (images without a window) → `camera`.
+//! (one frame) → `offscreen` / `headless` (images without a window) → `record`
+//! (animations without a window) → `camera`.
 
 pub mod camera;
 pub mod gpu;
@@ -11,6 +12,8 @@ pub mod lines;
 pub mod mesh;
 pub mod offscreen;
 pub mod pipelines;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod record;
 pub mod renderer;
 
 pub use camera::{OrbitCamera, Ray};

@@ -1,7 +1,10 @@
 //! A texture to render into without a window, and its read-back to an RGBA image.
 
-use image::RgbaImage;
+use std::path::Path;
 
+use image::{ImageFormat, RgbaImage};
+
+use crate::output_file::write_atomically_with;
 use crate::render::gpu::Gpu;
 
 /// A 2D colour texture to draw into and read back.
@@ -93,6 +96,17 @@ impl OffscreenTarget {
     }
 }
 
+/// Saves `image` as a PNG at `path`, whole or not at all (see `output_file`); the error
+/// names the path.
+pub fn save_png(image: &RgbaImage, path: &Path) -> Result<(), String> {
+    write_atomically_with(path, |file| {
+        image
+            .write_to(file, ImageFormat::Png)
+            .map_err(std::io::Error::other)
+    })
+    .map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
 fn is_bgra(format: wgpu::TextureFormat) -> bool {
     matches!(
         format,
@@ -105,5 +119,40 @@ fn extent((width, height): (u32, u32)) -> wgpu::Extent3d {
         width,
         height,
         depth_or_array_layers: 1,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch_dir(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("rigid-png-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    #[test]
+    fn a_saved_png_reads_back_pixel_for_pixel() {
+        let dir = scratch_dir("round-trip");
+        let path = dir.join("shot.png");
+        let image = RgbaImage::from_fn(7, 5, |x, y| {
+            image::Rgba([x as u8 * 30, y as u8 * 50, 9, 255])
+        });
+        save_png(&image, &path).unwrap();
+        assert_eq!(image::open(&path).unwrap().to_rgba8(), image);
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        assert_eq!(left.len(), 1, "a temporary file was left: {left:?}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn a_png_that_cannot_be_written_is_an_error_naming_the_path() {
+        let dir = scratch_dir("missing-folder");
+        let path = dir.join("no-such-folder").join("shot.png");
+        let error = save_png(&RgbaImage::new(2, 2), &path).unwrap_err();
+        assert!(error.contains("no-such-folder"), "{error}");
+        assert!(!path.exists());
+        std::fs::remove_dir_all(dir).unwrap();
     }
 }

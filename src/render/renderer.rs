@@ -18,7 +18,7 @@ use crate::sim::{LineSegment, Snapshot};
 pub const SAMPLES: u32 = 4;
 
 /// Body colours (gamma-encoded). Dynamic bodies cycle through the palette by index.
-const PALETTE: [[f32; 3]; 6] = [
+pub const PALETTE: [[f32; 3]; 6] = [
     [0.93, 0.55, 0.24],
     [0.27, 0.68, 0.62],
     [0.88, 0.36, 0.36],

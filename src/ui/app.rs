@@ -6,12 +6,14 @@ use std::sync::Arc;
 use web_time::Instant;
 
 use glam::{DVec3, Vec2};
+use image::RgbaImage;
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
+use crate::render::offscreen::save_png;
 use crate::render::{FrameInput, OrbitCamera, Ray, Viewport};
 use crate::sim::snapshot::BodyPose;
 use crate::sim::{
@@ -20,7 +22,7 @@ use crate::sim::{
 use crate::ui::aim;
 use crate::ui::display::{Display, UiFrame};
 use crate::ui::drag::Drag;
-use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel, PanelRequests};
+use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel, PanelRequests, screenshot_file};
 use crate::ui::picking::{self, Pick};
 
 /// How to start the viewer.
@@ -304,6 +306,7 @@ impl App {
         let poses = snapshot.poses_at(snapshot.blend_factor(now));
 
         let (ui_frame, requests) = self.run_panel(&snapshot);
+        let screenshot_asked = requests.screenshot;
         for kind in requests.spawns {
             self.spawn(kind, None);
         }
@@ -335,24 +338,52 @@ impl App {
             viewport: self.viewport,
         };
         let exiting = self.exit_due();
-        let capture = exiting && self.options.screenshot.is_some();
+        let exit_capture = exiting && self.options.screenshot.is_some();
         let Some(display) = self.display.as_mut() else {
             return;
         };
-        match display.draw(&frame, ui_frame, capture) {
-            Ok(Some(image)) => {
-                let path = self.options.screenshot.clone().unwrap_or_default();
-                if let Err(e) = image.save(&path) {
-                    return self.fail(event_loop, format!("cannot save {}: {e}", path.display()));
-                }
+        let image = match display.draw(&frame, ui_frame, exit_capture || screenshot_asked) {
+            Ok(image) => image,
+            // The button's failure is the panel's to tell; the run goes on.
+            Err(e) if !exit_capture => {
+                self.panel.set_screenshot_note(e);
+                None
             }
-            Ok(None) => {}
             Err(e) => return self.fail(event_loop, e),
+        };
+        if let Some(image) = image
+            && let Err(e) = self.save_captured(&image, screenshot_asked, exiting, &snapshot)
+        {
+            return self.fail(event_loop, e);
         }
         #[cfg(target_arch = "wasm32")]
         crate::web::publish_status(&snapshot);
         if exiting {
             event_loop.exit();
+        }
+    }
+
+    /// Saves a captured frame where it was asked for: the Screenshot button's file (the panel
+    /// tells what became of it) and, when exiting, the `--screenshot` file, whose failure is
+    /// the run's.
+    fn save_captured(
+        &mut self,
+        image: &RgbaImage,
+        button: bool,
+        exiting: bool,
+        snapshot: &Snapshot,
+    ) -> Result<(), String> {
+        if button {
+            let path = screenshot_file(snapshot.counters.steps);
+            let note = match save_png(image, &path) {
+                Ok(()) => format!("saved {}", path.display()),
+                Err(e) => e,
+            };
+            self.panel.set_screenshot_note(note);
+        }
+        match self.options.screenshot.as_ref().filter(|_| exiting) {
+            Some(path) => save_png(image, path),
+            None => Ok(()),
         }
     }
 

@@ -18,6 +18,12 @@ const SAVED_WORLD_FILE: &str = "rigid-world.ron";
 #[cfg(not(target_arch = "wasm32"))]
 const RECORDING_FILE: &str = "rigid-recording.ron";
 
+/// Where the Screenshot button saves the view at `step`, relative to the directory the viewer
+/// was started in: one file per step, so later shots keep the earlier ones.
+pub fn screenshot_file(step: u64) -> std::path::PathBuf {
+    std::path::PathBuf::from(format!("rigid-screenshot-{step}.png"))
+}
+
 /// Rates measured on the render side.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameStats {
@@ -33,6 +39,9 @@ pub struct PanelRequests {
     /// Spawn buttons pressed. The panel has no camera, so the viewer aims them (see
     /// `ui::aim`) before sending them as commands.
     pub spawns: Vec<SpawnKind>,
+    /// The Screenshot button was pressed: the viewer saves this frame (see `screenshot_file`)
+    /// and reports back with `Panel::set_screenshot_note`.
+    pub screenshot: bool,
 }
 
 /// The values the widgets edit. They are copied from the snapshot whenever the world is
@@ -53,6 +62,8 @@ pub struct Panel {
     substeps: u32,
     sleeping: bool,
     synced_generation: Option<u64>,
+    /// Where the last screenshot went, or why it failed.
+    screenshot_note: Option<String>,
 }
 
 impl Default for Panel {
@@ -71,6 +82,7 @@ impl Default for Panel {
             substeps: crate::physics::solver::soft::SoftSolverSettings::default().substeps,
             sleeping: true,
             synced_generation: None,
+            screenshot_note: None,
         }
     }
 }
@@ -84,8 +96,7 @@ impl Panel {
         stats: FrameStats,
     ) -> PanelRequests {
         self.sync(snapshot);
-        let mut commands = Vec::new();
-        let mut spawns = Vec::new();
+        let mut requests = PanelRequests::default();
         egui::ScrollArea::vertical().show(ui, |ui| {
             ui.horizontal(|ui| {
                 ui.heading("rigid");
@@ -96,14 +107,14 @@ impl Panel {
                 ui.colored_label(egui::Color32::LIGHT_RED, message);
             }
             faults(ui, snapshot);
-            self.scene_section(ui, snapshot, &mut commands);
+            self.scene_section(ui, snapshot, &mut requests);
             ui.separator();
-            self.time_section(ui, &mut commands);
+            self.time_section(ui, &mut requests.commands);
             ui.separator();
-            spawn_section(ui, &mut spawns);
+            spawn_section(ui, &mut requests.spawns);
             ui.separator();
-            self.world_section(ui, &mut commands);
-            materials_section(ui, snapshot, &mut commands);
+            self.world_section(ui, &mut requests.commands);
+            materials_section(ui, snapshot, &mut requests.commands);
             ui.separator();
             self.overlay_section(ui);
             ui.separator();
@@ -119,7 +130,12 @@ impl Panel {
                 .default_open(false)
                 .show(ui, |ui| plots::penetration(ui, &snapshot.history));
         });
-        PanelRequests { commands, spawns }
+        requests
+    }
+
+    /// Shows `note` (where the screenshot was saved, or why it was not) under the button.
+    pub fn set_screenshot_note(&mut self, note: String) {
+        self.screenshot_note = Some(note);
     }
 
     fn sync(&mut self, snapshot: &Snapshot) {
@@ -141,7 +157,13 @@ impl Panel {
         self.synced_generation = Some(snapshot.world_generation);
     }
 
-    fn scene_section(&mut self, ui: &mut egui::Ui, snapshot: &Snapshot, out: &mut Vec<Command>) {
+    fn scene_section(
+        &mut self,
+        ui: &mut egui::Ui,
+        snapshot: &Snapshot,
+        requests: &mut PanelRequests,
+    ) {
+        let out = &mut requests.commands;
         egui::ComboBox::from_label("scene")
             .selected_text(self.scene.as_str())
             .show_ui(ui, |ui| {
@@ -164,9 +186,18 @@ impl Panel {
             if ui.button("Reset").clicked() {
                 out.push(Command::Reset);
             }
+            #[cfg(not(target_arch = "wasm32"))]
+            {
+                let hover = "saves the window to rigid-screenshot-STEP.png";
+                requests.screenshot |= ui.button("Screenshot").on_hover_text(hover).clicked();
+            }
         });
         #[cfg(not(target_arch = "wasm32"))]
-        files_row(ui, out);
+        files_row(ui, &mut requests.commands);
+        // Only once there is one, so that no widget moves before the first screenshot.
+        if let Some(note) = &self.screenshot_note {
+            ui.label(note);
+        }
     }
 
     fn time_section(&mut self, ui: &mut egui::Ui, out: &mut Vec<Command>) {
@@ -483,5 +514,19 @@ fn broad_phase_name(kind: BroadPhaseKind) -> &'static str {
         BroadPhaseKind::SweepAndPrune => "sweep and prune",
         BroadPhaseKind::UniformGrid { .. } => "uniform grid (1 m cells)",
         BroadPhaseKind::BruteForce => "brute force (n²)",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn screenshots_are_named_by_their_step_in_the_working_directory() {
+        assert_eq!(
+            screenshot_file(303),
+            std::path::Path::new("rigid-screenshot-303.png")
+        );
+        assert_ne!(screenshot_file(1), screenshot_file(2));
     }
 }
