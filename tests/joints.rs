@@ -231,17 +231,24 @@ fn a_hinge_motor_reaches_its_speed_below_its_torque_and_stalls_above() {
     );
 }
 
-#[test]
-fn a_limited_hinge_holds_under_a_push() {
+/// A 20 kg door (1 × 2 m) on a hinge about y along its edge, limited to [lo, hi] rad, in a
+/// world without gravity.
+fn limited_door(lo: f64, hi: f64) -> (World, BodyId, JointId) {
     let mut world = World::default();
     let frame = fixed_point(&mut world, DVec3::new(0.0, 0.0, -1.0));
     let door = BodyDesc::dynamic(Shape::cuboid(DVec3::new(0.5, 1.0, 0.05)))
         .at(DVec3::new(0.5, 0.0, 0.0))
         .with_mass(20.0);
     let door = world.add_body(door).unwrap();
-    let (lo, hi) = (-0.5, 1.0);
     let hinge = JointDesc::hinge(frame, door, DVec3::ZERO, DVec3::Y).with_limits(lo, hi);
-    world.add_joint(hinge).unwrap();
+    let hinge = world.add_joint(hinge).unwrap();
+    (world, door, hinge)
+}
+
+#[test]
+fn a_limited_hinge_holds_under_a_push() {
+    let (lo, hi) = (-0.5, 1.0);
+    let (mut world, door, _) = limited_door(lo, hi);
     for torque in [100.0, -100.0] {
         let mut reached = 0.0_f64;
         for _ in 0..180 {
@@ -269,14 +276,7 @@ fn a_limited_hinge_holds_under_a_push() {
 /// through the limit), and the joint's angle agrees with the door's own turn.
 #[test]
 fn a_hinge_limit_past_half_a_turn_holds() {
-    let mut world = World::default();
-    let frame = fixed_point(&mut world, DVec3::new(0.0, 0.0, -1.0));
-    let door = BodyDesc::dynamic(Shape::cuboid(DVec3::new(0.5, 1.0, 0.05)))
-        .at(DVec3::new(0.5, 0.0, 0.0))
-        .with_mass(20.0);
-    let door = world.add_body(door).unwrap();
-    let hinge = JointDesc::hinge(frame, door, DVec3::ZERO, DVec3::Y).with_limits(-1.0, 4.0);
-    let hinge = world.add_joint(hinge).unwrap();
+    let (mut world, door, hinge) = limited_door(-1.0, 4.0);
     let mut reached = 0.0_f64;
     for _ in 0..240 {
         world.body_mut(door).torque = DVec3::new(0.0, 100.0, 0.0);
