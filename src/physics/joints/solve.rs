@@ -288,12 +288,13 @@ impl ConeGeometry {
             swing,
             swing_axis: across.normalize_or_zero(),
             twist_axis: (axis_a + axis_b).normalize_or(axis_b),
-            twist: joint.angle + wrapped(measured - joint.angle),
+            twist: continued(joint.angle, measured),
         }
     }
 }
 
-/// The cone's row (its impulse held in `along`) and the twist limits' (`lower`, `upper`).
+/// The cone's row (its impulse held in `along`), then the twist limits as a hinge's
+/// (`lower`, `upper`; a cone-twist takes no motor or servo).
 fn solve_cone_twist(
     joint: &Joint,
     cone: &ConeGeometry,
@@ -313,25 +314,8 @@ fn solve_cone_twist(
             pass,
         );
     }
-    if let Some((lo, hi)) = joint.limits {
-        let t = cone.twist_axis;
-        solve_axial(
-            [a, b],
-            t,
-            cone.twist - lo,
-            Bound::AtLeast,
-            &mut impulses.lower,
-            pass,
-        );
-        solve_axial(
-            [a, b],
-            -t,
-            hi - cone.twist,
-            Bound::AtLeast,
-            &mut impulses.upper,
-            pass,
-        );
-    }
+    let drives = Drives::of(joint, pass);
+    axial_rows([a, b], cone.twist_axis, cone.twist, drives, impulses, pass);
 }
 
 /// What drives a hinge or slider along its axis in one pass: its motor's and servo's rows
@@ -361,7 +345,8 @@ impl Drives {
     }
 }
 
-/// A hinge's motor, servo and limits about `axis`, at the hinge `angle`.
+/// A hinge's motor, servo and limits about `axis`, at the hinge `angle` (and a cone-twist's
+/// twist limits).
 fn axial_rows(
     [a, b]: [&mut BodyView; 2],
     axis: DVec3,
@@ -538,13 +523,15 @@ fn hinge_angle(joint: &Joint, a: &BodyView, b: &BodyView) -> f64 {
     let ref_a = a.orientation * joint.local_reference_a;
     let ref_b = b.orientation * joint.local_reference_b;
     let measured = axis.dot(ref_a.cross(ref_b)).atan2(ref_a.dot(ref_b));
-    joint.angle + wrapped(measured - joint.angle)
+    continued(joint.angle, measured)
 }
 
-/// `angle` brought into (−π, π] by whole turns.
-fn wrapped(angle: f64) -> f64 {
-    let turns = (angle / std::f64::consts::TAU).round();
-    angle - turns * std::f64::consts::TAU
+/// The angle `measured` in (−π, π], carried on from `last` through whole turns: the one of
+/// its values a whole number of turns apart that lies within half a turn of `last`.
+fn continued(last: f64, measured: f64) -> f64 {
+    let step = measured - last;
+    let turns = (step / std::f64::consts::TAU).round();
+    last + step - turns * std::f64::consts::TAU
 }
 
 /// Adds the impulses the joint holds to the views, along the current directions (a warm
