@@ -22,6 +22,8 @@ pub mod cli_arg;
 pub mod input_file;
 pub mod output_file;
 pub mod physics;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod progress;
 #[cfg(feature = "viewer")]
 pub mod render;
 pub mod scene;

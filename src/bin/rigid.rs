@@ -14,14 +14,13 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(not(target_arch = "wasm32"))]
 mod desktop {
-    use std::io::IsTerminal;
     use std::path::{Path, PathBuf};
     use std::process::ExitCode;
 
     use clap::{Parser, Subcommand};
-    use indicatif::ProgressBar;
 
     use rigid::cli_arg::Utf8Text;
+    use rigid::progress::Progress;
     use rigid::render::Overlays;
     use rigid::render::gpu::Gpu;
     use rigid::render::headless;
@@ -232,19 +231,10 @@ mod desktop {
         let frames = take.frame_count().map_err(user_error)?;
         let gpu = Gpu::offscreen()?;
         headless::check_size(&gpu, take.size).map_err(user_error)?;
-        // A bar on a terminal only: a log or a pipe gets the summary line alone.
-        let bar = std::io::stderr()
-            .is_terminal()
-            .then(|| ProgressBar::new(u64::from(frames)).with_message("frames"));
-        let mut on_frame = |done: u32, _total: u32| {
-            if let Some(bar) = &bar {
-                bar.set_position(u64::from(done));
-            }
-        };
+        let mut progress = Progress::new("frames", u64::from(frames));
+        let mut on_frame = |done: u32, _total: u32| progress.update(u64::from(done));
         record::record(&gpu, scene, take, output, &mut on_frame)?;
-        if let Some(bar) = bar {
-            bar.finish_and_clear();
-        }
+        progress.finish();
         println!(
             "wrote {}: {frames} frames of {}x{}, {} s at {} fps",
             output.display(),
