@@ -51,10 +51,12 @@ fn write_synced<E: From<Error>>(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn scratch_dir(name: &str) -> PathBuf {
+    /// A folder of the test process's own under the system's temporary one, made if missing;
+    /// `name` tells the tests apart (they share the process).
+    pub(crate) fn scratch_dir(name: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("rigid-output-{name}-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         dir

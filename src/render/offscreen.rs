@@ -125,16 +125,11 @@ fn extent((width, height): (u32, u32)) -> wgpu::Extent3d {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn scratch_dir(name: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("rigid-png-{name}-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
-    }
+    use crate::output_file::tests::scratch_dir;
 
     #[test]
     fn a_saved_png_reads_back_pixel_for_pixel() {
-        let dir = scratch_dir("round-trip");
+        let dir = scratch_dir("png-round-trip");
         let path = dir.join("shot.png");
         let image = RgbaImage::from_fn(7, 5, |x, y| {
             image::Rgba([x as u8 * 30, y as u8 * 50, 9, 255])
@@ -148,7 +143,7 @@ mod tests {
 
     #[test]
     fn a_png_that_cannot_be_written_is_an_error_naming_the_path() {
-        let dir = scratch_dir("missing-folder");
+        let dir = scratch_dir("png-missing-folder");
         let path = dir.join("no-such-folder").join("shot.png");
         let error = save_png(&RgbaImage::new(2, 2), &path).unwrap_err();
         assert!(error.contains("no-such-folder"), "{error}");

@@ -52,9 +52,9 @@ pub fn in_view(camera: &OrbitCamera) -> DVec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::{CameraHint, Simulation};
+    use crate::sim::CameraHint;
+    use crate::ui::picking::tests::scene_at_start;
     use glam::{Vec2, Vec3};
-    use std::time::Instant;
 
     const VIEW: Vec2 = Vec2::new(990.0, 720.0);
 
@@ -68,10 +68,7 @@ mod tests {
     fn a_ray_that_hits_the_scene_spawns_just_above_the_hit() {
         // falling_box: the platform's top face is y = 0, ±1.5 m; the cube (±0.5 m) stands at
         // the origin.
-        let snapshot = Simulation::new("falling_box")
-            .unwrap()
-            .snapshot(Instant::now());
-        let poses: Vec<_> = snapshot.bodies.iter().map(|b| b.pose).collect();
+        let (snapshot, poses) = scene_at_start("falling_box");
         let camera = OrbitCamera::from_hint(&snapshot.camera);
         let ray = Ray {
             origin: Vec3::new(1.1, 5.0, 1.2),
@@ -86,10 +83,7 @@ mod tests {
 
     #[test]
     fn a_ray_that_hits_nothing_spawns_in_view_above_the_target() {
-        let snapshot = Simulation::new("falling_box")
-            .unwrap()
-            .snapshot(Instant::now());
-        let poses: Vec<_> = snapshot.bodies.iter().map(|b| b.pose).collect();
+        let (snapshot, poses) = scene_at_start("falling_box");
         for (eye, target) in [
             (Vec3::new(0.0, 3.0, 8.0), Vec3::new(0.0, 30.0, 0.0)),
             (Vec3::new(40.0, 90.0, -5.0), Vec3::new(20.0, 60.0, 10.0)),

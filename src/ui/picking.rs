@@ -82,19 +82,23 @@ fn ray_sphere(ray: &Ray, centre: Vec3, radius: f32) -> Option<(f32, f32)> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::sim::Simulation;
     use std::time::Instant;
+
+    /// The built-in scene `name` as loaded, and its bodies' poses.
+    pub(crate) fn scene_at_start(name: &str) -> (Snapshot, Vec<BodyPose>) {
+        let snapshot = Simulation::new(name).unwrap().snapshot(Instant::now());
+        let poses = snapshot.bodies.iter().map(|b| b.pose).collect();
+        (snapshot, poses)
+    }
 
     #[test]
     fn picks_the_nearest_body_along_the_ray() {
         // falling_box: platform (0) ±1.5 m with its top at y 0, cube (1) ±0.5 m, box (2) at
         // y 4.5.
-        let snapshot = Simulation::new("falling_box")
-            .unwrap()
-            .snapshot(Instant::now());
-        let poses: Vec<_> = snapshot.bodies.iter().map(|b| b.pose).collect();
+        let (snapshot, poses) = scene_at_start("falling_box");
         let down = |x: f32, z: f32| Ray {
             origin: Vec3::new(x, 10.0, z),
             direction: -Vec3::Y,
