@@ -79,7 +79,7 @@ impl LineList {
     /// The twelve edges of the axis-aligned box from `min` to `max` (world space), opaque
     /// in `color` (gamma-encoded RGB).
     pub fn aabb(&mut self, min: Vec3, max: Vec3, color: [f32; 3]) {
-        let color = [color[0], color[1], color[2], 1.0];
+        let color = opaque(color);
         let corner = |i: usize| {
             Vec3::new(
                 if i & 1 == 0 { min.x } else { max.x },
@@ -98,7 +98,7 @@ impl LineList {
 
     /// An arrow for a body's velocity, from its centre of mass, 0.25 s of travel long.
     pub fn velocity(&mut self, body: &BodyState) {
-        let color = [VELOCITY_COLOR[0], VELOCITY_COLOR[1], VELOCITY_COLOR[2], 1.0];
+        let color = opaque(VELOCITY_COLOR);
         let from = body.center_of_mass;
         let arrow = body.velocity * 0.25;
         if arrow.length_squared() < 1e-6 {
@@ -118,7 +118,7 @@ impl LineList {
     /// length; a point otherwise), origin to anchor on each moving body, a cross at a's
     /// anchor and the axis through it.
     pub fn joint(&mut self, sketch: &JointSketch, poses: [BodyPose; 2]) {
-        let color = [JOINT_COLOR[0], JOINT_COLOR[1], JOINT_COLOR[2], 1.0];
+        let color = opaque(JOINT_COLOR);
         let at = |k: usize| poses[k].position + poses[k].rotation * sketch.anchors[k];
         let anchors = [at(0), at(1)];
         self.segment(anchors[0], anchors[1], color);
@@ -140,9 +140,14 @@ impl LineList {
     /// colours.
     pub fn segments(&mut self, segments: &[LineSegment]) {
         for s in segments {
-            self.segment(s.from, s.to, [s.color[0], s.color[1], s.color[2], 1.0]);
+            self.segment(s.from, s.to, opaque(s.color));
         }
     }
+}
+
+/// An RGB colour as RGBA, fully opaque.
+fn opaque([r, g, b]: [f32; 3]) -> [f32; 4] {
+    [r, g, b, 1.0]
 }
 
 #[cfg(test)]

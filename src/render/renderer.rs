@@ -48,8 +48,9 @@ pub struct Overlays {
     pub velocities: bool,
     /// The snapshot's contact points and normals (on by default).
     pub contacts: bool,
-    /// The joints: a line from each body's origin to its anchor and between the anchors,
-    /// and the axis a hinge, slider or cone-twist turns or slides about (on by default).
+    /// The joints: a line between the anchors, from each moving body's origin to its
+    /// anchor, and the axis a hinge, slider or cone-twist turns or slides about (on by
+    /// default).
     pub joints: bool,
     /// The broad phase's boxes of awake bodies (bounds grown by the step's reach).
     pub broad_phase: bool,

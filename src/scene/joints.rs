@@ -159,7 +159,7 @@ fn link(joint: ChainJoint, a: BodyId, b: BodyId, p: DVec3, q: DVec3) -> JointDes
     }
 }
 
-/// Limits in the file's units and in order, before hinge limits become radians (so that the
+/// Limits in the file's units and in order, before angle limits become radians (so that the
 /// message shows what was written).
 fn check_options(spec: &JointSpec) -> Result<(), FieldError> {
     if let Some((lo, hi)) = spec.limits {
@@ -176,18 +176,20 @@ fn check_options(spec: &JointSpec) -> Result<(), FieldError> {
 }
 
 fn with_options(desc: JointDesc, spec: &JointSpec) -> JointDesc {
-    let hinge = matches!(
+    // Angles in scene files are degrees: a hinge's and a cone-twist's limits, a hinge's
+    // servo target.
+    let in_degrees = matches!(
         spec.kind,
         JointKindSpec::Hinge { .. } | JointKindSpec::ConeTwist { .. }
     );
     JointDesc {
-        limits: spec.limits.map(|(lo, hi)| match hinge {
+        limits: spec.limits.map(|(lo, hi)| match in_degrees {
             true => (lo.to_radians(), hi.to_radians()),
             false => (lo, hi),
         }),
         motor: spec.motor,
         servo: spec.servo.map(|s| Servo {
-            target: if hinge {
+            target: if in_degrees {
                 s.target.to_radians()
             } else {
                 s.target

@@ -43,7 +43,8 @@
 //!
 //! A `joints: [...]` list joins bodies named in `bodies` (a generated copy is `name_k`):
 //! `(name, body_a, body_b, kind: Ball(anchor) | Hinge(anchor, axis) | Slider(anchor, axis) |
-//! Fixed(anchor) | Distance(anchor_a, anchor_b), limits, motor, servo, spring, colliding)`, or
+//! ConeTwist(anchor, axis, cone) | Fixed(anchor) | Distance(anchor_a, anchor_b), limits,
+//! motor, servo, spring, breaking, colliding)`, or
 //! `(name, kind: Chain(links, joint: Ball | Distance, pin))` to join the copies of a generated
 //! body in order (see [`JointSpec`]). A body with `kinematic: Velocity(linear, angular)` or
 //! `kinematic: Sinusoid(axis, amplitude, angle_axis, angle_amplitude, frequency, phase)` is

@@ -1,9 +1,10 @@
 //! Bodies the panel spawns, and where they go. The viewer aims a spawn where the user looks
 //! (`off_surface`: just off the surface under the cursor or the view's centre) and sends
 //! that point in the command, so a replay never needs the camera; the simulation then puts
-//! the body there if it is free, else on top of whatever occupies that spot (`free_spot`). Spawned bodies never start inside one another, so a
-//! storm of spawns at one point becomes a falling column instead of thousands of bodies
-//! overlapping in one place (n² contact pairs and an explosion).
+//! the body there if it is free, else on top of whatever occupies that spot (`free_spot`).
+//! Spawned bodies never start inside one another, so a storm of spawns at one point becomes
+//! a falling column instead of thousands of bodies overlapping in one place (n² contact pairs
+//! and an explosion).
 
 use glam::{DMat3, DQuat, DVec3};
 
