@@ -490,7 +490,10 @@ fn dynamic_inverses(
     body: &str,
     mass_given: bool,
 ) -> Result<(f64, DMat3), BodyError> {
-    let (inv_mass, inv_inertia) = (1.0 / props.mass, props.inertia.inverse());
+    let (inv_mass, inv_inertia) = (
+        1.0 / props.mass,
+        with_inertia_floor(props.inertia).inverse(),
+    );
     let invertible = inv_mass.is_finite() && inv_inertia.is_finite();
     if !(invertible && props.inertia.is_finite()) {
         return Err(BodyError::MassNotInvertible {
@@ -504,6 +507,43 @@ fn dynamic_inverses(
         });
     }
     Ok((inv_mass, inv_inertia))
+}
+
+/// The smallest principal moment of a dynamic body's inertia, as a share of its largest.
+/// Below it a rod or needle (a box 1 mm thick and 1 m long has 2e-6) was spun about its
+/// own axis by a glancing contact faster than a step can follow, and gained energy without
+/// bound. Only rods thinner than about 1/140 of their length are lifted, and only in their
+/// spin about their own axis (BENCHMARKS.md, "Inertia floor").
+pub const MIN_INERTIA_RATIO: f64 = 1e-4;
+
+/// `inertia` raised by the same amount about every axis, just enough that its smallest
+/// principal moment is `MIN_INERTIA_RATIO` of its largest (unchanged when it already is).
+/// Adding k·I keeps the principal axes and the larger moments nearly as they were.
+pub fn with_inertia_floor(inertia: DMat3) -> DMat3 {
+    let [smallest, largest] = principal_extremes(inertia);
+    let lift = (MIN_INERTIA_RATIO * largest - smallest) / (1.0 - MIN_INERTIA_RATIO);
+    if lift > 0.0 {
+        inertia + DMat3::from_diagonal(DVec3::splat(lift))
+    } else {
+        inertia
+    }
+}
+
+/// The smallest and largest eigenvalues of a symmetric 3×3 matrix, in closed form (the
+/// trigonometric solution of its characteristic cubic).
+pub fn principal_extremes(m: DMat3) -> [f64; 2] {
+    let off = m.y_axis.x.powi(2) + m.z_axis.x.powi(2) + m.z_axis.y.powi(2);
+    let diagonal = DVec3::new(m.x_axis.x, m.y_axis.y, m.z_axis.z);
+    if off == 0.0 {
+        return [diagonal.min_element(), diagonal.max_element()];
+    }
+    let mean = diagonal.element_sum() / 3.0;
+    let spread = (((diagonal - mean).length_squared() + 2.0 * off) / 6.0).sqrt();
+    let shifted = (m - DMat3::from_diagonal(DVec3::splat(mean))) * (1.0 / spread);
+    let angle = (0.5 * shifted.determinant()).clamp(-1.0, 1.0).acos() / 3.0;
+    let largest = mean + 2.0 * spread * angle.cos();
+    let smallest = mean + 2.0 * spread * (angle + 2.0 * std::f64::consts::FRAC_PI_3).cos();
+    [smallest, largest]
 }
 
 /// k·I: the same inertia about every axis.
@@ -787,5 +827,48 @@ impl SupportMap for RigidBody {
 
     fn nearest_surface(&self, point: DVec3) -> Option<NearestSurface> {
         PosedShape::of_body(self).nearest_surface(point)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// R diag(moments) Rᵀ for a rotation that mixes all three axes.
+    fn turned(moments: DVec3) -> DMat3 {
+        let r = DMat3::from_quat(DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 0.7));
+        r * DMat3::from_diagonal(moments) * r.transpose()
+    }
+
+    #[test]
+    fn principal_extremes_are_the_moments_of_a_turned_tensor() {
+        for moments in [
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::new(5.0, 5.0, 1e-6),
+            DVec3::new(2.0, 2.0, 2.0),
+        ] {
+            let [smallest, largest] = principal_extremes(turned(moments));
+            // Round-off of the rotation and the cubic's solution, relative to the largest.
+            let tolerance = 1e-12 * moments.max_element();
+            assert!(
+                (smallest - moments.min_element()).abs() < tolerance,
+                "{moments}"
+            );
+            assert!(
+                (largest - moments.max_element()).abs() < tolerance,
+                "{moments}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_floor_leaves_ordinary_bodies_and_lifts_only_a_needle() {
+        let brick = turned(DVec3::new(1.0, 4.0, 4.5));
+        assert_eq!(with_inertia_floor(brick), brick);
+        let needle = turned(DVec3::new(1e-9, 1.0, 1.0));
+        let [smallest, largest] = principal_extremes(with_inertia_floor(needle));
+        assert!((smallest / largest - MIN_INERTIA_RATIO).abs() < 1e-9);
+        // The larger moments grow by the lift only, 1e-4 of themselves.
+        assert!((largest - 1.0).abs() < 1.01 * MIN_INERTIA_RATIO);
     }
 }

@@ -161,6 +161,8 @@ pub struct SoftScratch {
     motions: Vec<SlotMotion>,
     bodies: SolverBodies,
     joints: Vec<JointConstraint>,
+    /// Whether each awake body (by its place in `awake`) has a contact point this step.
+    touching: Vec<bool>,
 }
 
 impl SoftScratch {
@@ -225,12 +227,14 @@ fn step_inline<L: Lanes>(
     joint_solve::prepare(&mut scratch.joints, joints, bodies, &scratch.bodies);
     prepare::warm_start_from_last_step(l, scratch);
     keep_user_forces(&mut scratch.user_forces, bodies, awake);
+    mark_touching(&mut scratch.touching, &scratch.constraints, awake.len());
     let SoftScratch {
         constraints,
         colors,
         user_forces,
         bodies: slots,
         joints: joint_constraints,
+        touching,
         ..
     } = scratch;
     let substeps = ctx.settings.substeps.max(1);
@@ -256,6 +260,7 @@ fn step_inline<L: Lanes>(
         joint_solve::warm_start(joint_constraints, &mut slots.slots);
         joint_solve::solve_all(joint_constraints, &mut slots.slots, joints_biased);
         solve::for_each_contact(&mut slots.slots, constraints, colors, biased, h);
+        slots.limit_spins(bodies, touching, MAX_TURN_IN_CONTACT / h);
         timed(ctx.timed, &mut integrate_seconds, || {
             slots.integrate_positions(bodies, |body| {
                 integrate::integrate_pose(body, h, ctx.integrator)
@@ -263,11 +268,13 @@ fn step_inline<L: Lanes>(
         });
         joint_solve::solve_all(joint_constraints, &mut slots.slots, joints_relax);
         solve::for_each_contact(&mut slots.slots, constraints, colors, Pass::Relax, h);
+        slots.limit_spins(bodies, touching, MAX_TURN_IN_CONTACT / h);
         joint_solve::end_substep(joint_constraints, &mut slots.slots);
         slots.store_warm_start(bodies, substep + 1 < substeps);
     }
     let threshold = ctx.settings.restitution_threshold;
     restitution::apply_restitution(slots, constraints, colors, threshold, h);
+    slots.limit_spins(bodies, touching, MAX_TURN_IN_CONTACT / h);
     joint_solve::finish(joint_constraints, &slots.slots, joints, h);
     slots.write_back(bodies);
     slots.release();
@@ -279,6 +286,22 @@ fn step_inline<L: Lanes>(
 
 /// The forces the user applied before the step, which act over all of it like the
 /// environment's (the substeps clear the bodies' accumulators).
+/// The most a body in contact may turn in one substep, rad: a contact cannot follow a body
+/// turning further (a thin rod spun about its axis by a glancing hit gained energy without
+/// bound); free bodies keep any spin. Box2D limits every body the same way.
+const MAX_TURN_IN_CONTACT: f64 = 0.25 * std::f64::consts::PI;
+
+/// Marks each awake body (by its place in `awake`) that one of `constraints` touches.
+fn mark_touching(touching: &mut Vec<bool>, constraints: &[PointConstraint], awake: usize) {
+    touching.clear();
+    touching.resize(awake, false);
+    for slot in constraints.iter().flat_map(|c| c.slots) {
+        if let Some(k) = (slot as usize).checked_sub(1) {
+            touching[k] = true;
+        }
+    }
+}
+
 fn keep_user_forces(kept: &mut Vec<(DVec3, DVec3)>, bodies: &[RigidBody], awake: &[u32]) {
     kept.clear();
     kept.extend(awake.iter().map(|&i| {
