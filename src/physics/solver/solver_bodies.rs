@@ -143,20 +143,22 @@ impl SolverBodies {
         }
     }
 
-    /// Slows each dynamic body in `touching` (by its place in `awake`) that spins faster than
-    /// `max_spin`, rad/s, to that speed. The change is kept out of the warm start, which
-    /// holds only what the contacts gave.
-    pub fn limit_spins(&mut self, bodies: &[RigidBody], touching: &[bool], max_spin: f64) {
-        let slots = self.slots[1..].iter_mut().zip(&self.awake);
-        for ((slot, &index), _) in slots.zip(touching).filter(|(_, touches)| **touches) {
-            let body = &bodies[index as usize];
+    /// Slows each awake body whose angular momentum passes its guard (`guards`, by its place
+    /// in `awake`) and that spins faster than `max_spin`, rad/s, to that speed. The change is
+    /// kept out of the warm start, which holds only what the contacts gave.
+    pub fn limit_spins(&mut self, bodies: &[RigidBody], guards: &[f64], max_spin: f64) {
+        let slots = self.slots[1..].iter_mut().zip(&self.awake).zip(guards);
+        for ((slot, &index), &guard) in slots {
             let momentum = slot.angular_momentum.to_vec3();
-            let spin = (body.inv_inertia_world * momentum).length();
-            if spin > max_spin && !body.is_kinematic() {
+            if momentum.length_squared() <= guard * guard {
+                continue;
+            }
+            let spin = (bodies[index as usize].inv_inertia_world * momentum).length();
+            if spin > max_spin {
                 let removed = momentum * (1.0 - max_spin / spin);
                 slot.angular_momentum = F64x4::from_vec3(momentum - removed);
-                slot.before_contacts[1] =
-                    F64x4::from_vec3(slot.before_contacts[1].to_vec3() - removed);
+                let before = slot.before_contacts[1].to_vec3();
+                slot.before_contacts[1] = F64x4::from_vec3(before - removed);
             }
         }
     }

@@ -161,8 +161,8 @@ pub struct SoftScratch {
     motions: Vec<SlotMotion>,
     bodies: SolverBodies,
     joints: Vec<JointConstraint>,
-    /// Whether each awake body (by its place in `awake`) has a contact point this step.
-    touching: Vec<bool>,
+    /// Each awake body's `spin_guards` (by its place in `awake`).
+    spin_guards: Vec<f64>,
 }
 
 impl SoftScratch {
@@ -227,18 +227,19 @@ fn step_inline<L: Lanes>(
     joint_solve::prepare(&mut scratch.joints, joints, bodies, &scratch.bodies);
     prepare::warm_start_from_last_step(l, scratch);
     keep_user_forces(&mut scratch.user_forces, bodies, awake);
-    mark_touching(&mut scratch.touching, &scratch.constraints, awake.len());
     let SoftScratch {
         constraints,
         colors,
         user_forces,
         bodies: slots,
         joints: joint_constraints,
-        touching,
+        spin_guards: guards,
         ..
     } = scratch;
     let substeps = ctx.settings.substeps.max(1);
     let h = ctx.dt / substeps as f64;
+    let max_spin = MAX_TURN_IN_CONTACT / h;
+    spin_guards(guards, constraints, bodies, awake, max_spin);
     let biased = Pass::Biased {
         softness: Softness::of_contacts(ctx.settings, h),
         max_push_out: ctx.settings.max_push_out,
@@ -260,7 +261,7 @@ fn step_inline<L: Lanes>(
         joint_solve::warm_start(joint_constraints, &mut slots.slots);
         joint_solve::solve_all(joint_constraints, &mut slots.slots, joints_biased);
         solve::for_each_contact(&mut slots.slots, constraints, colors, biased, h);
-        slots.limit_spins(bodies, touching, MAX_TURN_IN_CONTACT / h);
+        slots.limit_spins(bodies, guards, max_spin);
         timed(ctx.timed, &mut integrate_seconds, || {
             slots.integrate_positions(bodies, |body| {
                 integrate::integrate_pose(body, h, ctx.integrator)
@@ -268,13 +269,13 @@ fn step_inline<L: Lanes>(
         });
         joint_solve::solve_all(joint_constraints, &mut slots.slots, joints_relax);
         solve::for_each_contact(&mut slots.slots, constraints, colors, Pass::Relax, h);
-        slots.limit_spins(bodies, touching, MAX_TURN_IN_CONTACT / h);
+        slots.limit_spins(bodies, guards, max_spin);
         joint_solve::end_substep(joint_constraints, &mut slots.slots);
         slots.store_warm_start(bodies, substep + 1 < substeps);
     }
     let threshold = ctx.settings.restitution_threshold;
     restitution::apply_restitution(slots, constraints, colors, threshold, h);
-    slots.limit_spins(bodies, touching, MAX_TURN_IN_CONTACT / h);
+    slots.limit_spins(bodies, guards, max_spin);
     joint_solve::finish(joint_constraints, &slots.slots, joints, h);
     slots.write_back(bodies);
     slots.release();
@@ -291,13 +292,32 @@ fn step_inline<L: Lanes>(
 /// bound); free bodies keep any spin. Box2D limits every body the same way.
 const MAX_TURN_IN_CONTACT: f64 = 0.25 * std::f64::consts::PI;
 
-/// Marks each awake body (by its place in `awake`) that one of `constraints` touches.
-fn mark_touching(touching: &mut Vec<bool>, constraints: &[PointConstraint], awake: usize) {
-    touching.clear();
-    touching.resize(awake, false);
+/// For each awake body (by its place in `awake`), the angular momentum below which it
+/// cannot spin faster than `max_spin`: that spin over trace(I⁻¹), which bounds the largest
+/// spin a momentum gives and does not change as the body turns. Infinite for a body that no
+/// contact point touches, or that no momentum spins (kinematic), so that the substeps'
+/// checks read no body but the few that spin near the limit.
+fn spin_guards(
+    guards: &mut Vec<f64>,
+    constraints: &[PointConstraint],
+    bodies: &[RigidBody],
+    awake: &[u32],
+    max_spin: f64,
+) {
+    guards.clear();
+    guards.resize(awake.len(), f64::INFINITY);
     for slot in constraints.iter().flat_map(|c| c.slots) {
         if let Some(k) = (slot as usize).checked_sub(1) {
-            touching[k] = true;
+            guards[k] = 0.0; // touched: its guard follows, reading the bodies in order
+        }
+    }
+    for (guard, &index) in guards.iter_mut().zip(awake) {
+        let body = &bodies[index as usize];
+        if *guard == 0.0 && !body.is_kinematic() {
+            let m = body.inv_inertia_local;
+            *guard = max_spin / (m.x_axis.x + m.y_axis.y + m.z_axis.z);
+        } else {
+            *guard = f64::INFINITY;
         }
     }
 }
