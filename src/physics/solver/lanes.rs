@@ -8,7 +8,8 @@
 //! Every lane computes exactly what the scalar code would (same operations, same order; no
 //! fused multiply-add), so results do not depend on whether the lanes are packed.
 //!
-//! `F64x4` is how lanes are stored, and its own arithmetic is plain code that the compiler
+//! `F64x4` is how lanes are stored (or `F32x4`, for what a pass only reads, widened to f64
+//! exactly as it is loaded), and its own arithmetic is plain code that the compiler
 //! packs as it sees fit. The solver's passes are generic over `Lanes`, the arithmetic they
 //! compute with: `Portable` (that plain code, on any processor) or, on x86_64 processors
 //! with AVX2, `Avx2`, one packed instruction per operation. Left to itself the compiler split
@@ -19,8 +20,8 @@ use std::ops::{Add, AddAssign, Mul, Neg, Sub};
 
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::{
-    __m256d, _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_permute4x64_pd, _mm256_set1_pd,
-    _mm256_storeu_pd, _mm256_sub_pd, _mm256_xor_pd,
+    __m256d, _mm_loadu_ps, _mm256_add_pd, _mm256_cvtps_pd, _mm256_loadu_pd, _mm256_mul_pd,
+    _mm256_permute4x64_pd, _mm256_set1_pd, _mm256_storeu_pd, _mm256_sub_pd, _mm256_xor_pd,
 };
 
 use glam::DVec3;
@@ -143,10 +144,50 @@ impl Neg for F64x4 {
     }
 }
 
+/// Four lanes stored as f32, for the contact data a pass only reads (directions, levers,
+/// spins): half the memory of `F64x4`, and loading widens them to f64 exactly, so the
+/// arithmetic stays in f64. A pass streams every contact point through memory, and the
+/// narrower record made the large scenes' passes faster (BENCHMARKS.md, "Narrow contact
+/// records").
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(16))]
+pub struct F32x4(pub [f32; 4]);
+
+impl F32x4 {
+    /// Each lane rounded to the nearest f32.
+    #[inline(always)]
+    pub fn narrowed(wide: F64x4) -> F32x4 {
+        let [a, b, c, d] = wide.0;
+        F32x4([a as f32, b as f32, c as f32, d as f32])
+    }
+
+    /// Each lane widened to f64 (exact).
+    #[inline(always)]
+    pub fn widened(self) -> F64x4 {
+        let [a, b, c, d] = self.0;
+        F64x4([f64::from(a), f64::from(b), f64::from(c), f64::from(d)])
+    }
+
+    /// Lanes 0 to 2 as a vector.
+    #[inline(always)]
+    pub fn to_vec3(self) -> DVec3 {
+        self.widened().to_vec3()
+    }
+}
+
+/// `v` with each component rounded to the nearest f32, as an `F32x4` would store it: the
+/// value a narrowed lane gives back.
+#[inline(always)]
+pub fn rounded_to_f32(v: DVec3) -> DVec3 {
+    F32x4::narrowed(F64x4::from_vec3(v)).to_vec3()
+}
+
 /// The arithmetic a solver pass computes its lanes with (see the module comment).
 pub trait Lanes: Copy {
     type Vector: LaneVector;
     fn load(self, stored: F64x4) -> Self::Vector;
+    /// The f32 lanes widened to f64.
+    fn load_narrow(self, stored: F32x4) -> Self::Vector;
 }
 
 /// Four lanes in registers, loaded from an `F64x4` and stored back to one.
@@ -183,6 +224,10 @@ impl Lanes for Portable {
     #[inline(always)]
     fn load(self, stored: F64x4) -> F64x4 {
         stored
+    }
+    #[inline(always)]
+    fn load_narrow(self, stored: F32x4) -> F64x4 {
+        stored.widened()
     }
 }
 
@@ -222,6 +267,11 @@ impl Lanes for Avx2 {
     fn load(self, stored: F64x4) -> Avx2Vector {
         // SAFETY: `self` proves AVX2 (see `Avx2`); the pointer reads the four lanes.
         Avx2Vector(unsafe { _mm256_loadu_pd(stored.0.as_ptr()) })
+    }
+    #[inline(always)]
+    fn load_narrow(self, stored: F32x4) -> Avx2Vector {
+        // SAFETY: `self` proves AVX2 (see `Avx2`); the pointer reads the four lanes.
+        Avx2Vector(unsafe { _mm256_cvtps_pd(_mm_loadu_ps(stored.0.as_ptr())) })
     }
 }
 
@@ -347,6 +397,8 @@ mod tests {
             same((-pa).store(), -a);
             same((-pb).store(), -b);
             same(pa.cross(pb).store(), a.cross(b));
+            let narrow = F32x4([0.1, -2.7e30, 1e-40, -0.0]);
+            same(avx.load_narrow(narrow).store(), narrow.widened());
             assert_eq!(pa.dot3(DVec3::X), a.dot3(DVec3::X));
         }
     }

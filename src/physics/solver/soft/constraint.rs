@@ -6,7 +6,7 @@ use glam::{DMat3, DVec3};
 
 use super::WarmImpulse;
 use crate::physics::dynamics::body::RigidBody;
-use crate::physics::solver::lanes::{F64x4, LaneVector, Lanes};
+use crate::physics::solver::lanes::{F32x4, F64x4, LaneVector, Lanes};
 use crate::physics::solver::solver_bodies::{
     FIXED_SLOT, Push, SharedBodies, SolverBodies, SolverBody,
 };
@@ -17,8 +17,11 @@ use crate::physics::solver::solver_bodies::{
 ///
 /// A pass streams the constraints through memory, so only what shortens a point's solve is
 /// stored: the spins that give the speeds from the momenta (`Side::spins`); the turning an
-/// impulse gives is derived from the levers. The fields are laid out in the order a pass
-/// reads them, so that the processor's prefetcher sees one forward stream.
+/// impulse gives is derived from the levers. The directions, levers and spins are stored
+/// as f32 (`F32x4`, 448 bytes a point instead of 672) and widened to f64 as a pass loads
+/// them; `prepare` rounds the directions and levers first, so that the passes solve the
+/// constraint it prepared. The fields are laid out in the order a pass reads them, so that
+/// the processor's prefetcher sees one forward stream.
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]
 pub(super) struct PointConstraint {
@@ -67,13 +70,13 @@ pub(super) struct PointConstraint {
     pub(super) separation_offset: f64,
     /// The normal and the tangents transposed (lane k of `across[c]` is component c of
     /// direction k), to take the speeds along all three at once.
-    pub(super) across: [F64x4; 3],
+    pub(super) across: [F32x4; 3],
     /// Where the impulses act on body a.
     pub(super) a: Side,
     /// Where the impulses act on body b.
     pub(super) b: Side,
     /// The normal and the tangents, each as a vector: the impulses' directions.
-    pub(super) directions: [F64x4; 3],
+    pub(super) directions: [F32x4; 3],
 }
 
 impl PointConstraint {
@@ -89,7 +92,7 @@ impl PointConstraint {
         let (a, b) = (bodies.get(slot_a), bodies.get(slot_b));
         let relative =
             l.load(b.linear_momentum) * b.inv_mass - l.load(a.linear_momentum) * a.inv_mass;
-        let [x, y, z] = load3(l, &self.across);
+        let [x, y, z] = load3_narrow(l, &self.across);
         let sliding = x * relative.lane(0) + y * relative.lane(1) + z * relative.lane(2);
         let speeds = sliding + (self.b.turning_speeds(l, b) - self.a.turning_speeds(l, a));
         [speeds.lane(0), speeds.lane(1), speeds.lane(2)]
@@ -98,7 +101,7 @@ impl PointConstraint {
     /// The impulse Σ λ d of impulses λ along the three directions.
     #[inline(always)]
     pub(super) fn along_directions<L: Lanes>(&self, l: L, lambda: [f64; 3]) -> L::Vector {
-        let [n, t1, t2] = load3(l, &self.directions);
+        let [n, t1, t2] = load3_narrow(l, &self.directions);
         n * lambda[0] + t1 * lambda[1] + t2 * lambda[2]
     }
 
@@ -112,7 +115,7 @@ impl PointConstraint {
 
     /// A normal impulse only.
     pub(super) fn apply_normal<L: Lanes>(&self, l: L, bodies: &SharedBodies, lambda: f64) {
-        let [to_a, to_b] = self.on_each_body(l, l.load(self.directions[0]) * lambda);
+        let [to_a, to_b] = self.on_each_body(l, l.load_narrow(self.directions[0]) * lambda);
         bodies.add(l, to_a);
         bodies.add(l, to_b);
     }
@@ -137,12 +140,12 @@ impl PointConstraint {
             Push {
                 slot: slot_a,
                 linear: -linear,
-                angular: -l.load(self.a.lever).cross(linear),
+                angular: -l.load_narrow(self.a.lever).cross(linear),
             },
             Push {
                 slot: slot_b,
                 linear,
-                angular: l.load(self.b.lever).cross(linear),
+                angular: l.load_narrow(self.b.lever).cross(linear),
             },
         ]
     }
@@ -158,13 +161,13 @@ impl PointConstraint {
 pub(super) struct Side {
     /// The lever arm r (contact point − centre of mass) in world axes, fixed for the step:
     /// an impulse J there turns the body by r × J, and the point moves at v + ω × r.
-    pub(super) lever: F64x4,
+    pub(super) lever: F32x4,
     /// I⁻¹ (r × d) for the normal and the tangents d, transposed like
     /// `PointConstraint::across` (zero where the body does not move). The point's speed
     /// along d from the turning, (r × d) · ω with ω = I⁻¹ A, is this · A (I⁻¹ is
     /// symmetric): one product with the momentum instead of deriving ω and crossing it with r,
     /// which made the longest chain of dependent operations in a pass longer.
-    pub(super) spins: [F64x4; 3],
+    pub(super) spins: [F32x4; 3],
     /// The point whose motion the separation follows as the bodies move in this step, in
     /// body axes, or for a body that does not move, in world axes. The contact point itself
     /// (the lever arm), except on a round surface, where it is the centre of the rounding
@@ -275,11 +278,11 @@ impl<V: LaneVector> SideGeometry<V> {
     #[inline(always)]
     pub(super) fn into_lanes(self) -> Side {
         Side {
-            lever: F64x4::from_vec3(self.lever),
+            lever: F32x4::narrowed(F64x4::from_vec3(self.lever)),
             spins: [
-                self.spins[0].store(),
-                self.spins[1].store(),
-                self.spins[2].store(),
+                F32x4::narrowed(self.spins[0].store()),
+                F32x4::narrowed(self.spins[1].store()),
+                F32x4::narrowed(self.spins[2].store()),
             ],
             anchor: F64x4::from_vec3(self.anchor),
         }
@@ -292,7 +295,7 @@ impl Side {
     #[inline(always)]
     pub(super) fn turning_speeds<L: Lanes>(&self, l: L, body: &SolverBody) -> L::Vector {
         let a = body.angular_momentum;
-        let [x, y, z] = load3(l, &self.spins);
+        let [x, y, z] = load3_narrow(l, &self.spins);
         x * a.lane(0) + y * a.lane(1) + z * a.lane(2)
     }
 
@@ -318,6 +321,16 @@ impl Side {
 #[inline(always)]
 pub(super) fn load3<L: Lanes>(l: L, stored: &[F64x4; 3]) -> [L::Vector; 3] {
     [l.load(stored[0]), l.load(stored[1]), l.load(stored[2])]
+}
+
+/// Three stored f32 lanes, loaded widened to f64 (written out, as `load3`).
+#[inline(always)]
+pub(super) fn load3_narrow<L: Lanes>(l: L, stored: &[F32x4; 3]) -> [L::Vector; 3] {
+    [
+        l.load_narrow(stored[0]),
+        l.load_narrow(stored[1]),
+        l.load_narrow(stored[2]),
+    ]
 }
 
 /// The body's inverse mass as the impulses see it: zero when it does not move.

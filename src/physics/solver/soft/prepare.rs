@@ -10,7 +10,7 @@ use super::{ContactInput, SoftScratch, StepContext};
 use crate::physics::dynamics::body::RigidBody;
 use crate::physics::dynamics::forces::EnvironmentForce;
 use crate::physics::solver::impulse::tangent_basis;
-use crate::physics::solver::lanes::{F64x4, LaneVector, Lanes};
+use crate::physics::solver::lanes::{F32x4, F64x4, LaneVector, Lanes, rounded_to_f32};
 use crate::physics::solver::solver_bodies::{FIXED_SLOT, SharedBodies, SolverBodies};
 
 /// Gives each awake body a slot, colours the contacts (see `contact_colors`) and prepares
@@ -129,9 +129,12 @@ pub(super) fn prepare<L: Lanes>(
     dt: f64,
 ) -> PointConstraint {
     let (a, b) = (&bodies[contact.a], &bodies[contact.b]);
-    let normal = contact.normal;
-    let directions = [normal, t1, t2];
-    let (r_a, r_b) = (contact.point - a.position, contact.point - b.position);
+    // The passes read the directions and levers as f32 (`PointConstraint`): everything here
+    // is worked out from those same values, so that the passes solve the constraint prepared.
+    let normal = rounded_to_f32(contact.normal);
+    let directions = [normal, rounded_to_f32(t1), rounded_to_f32(t2)];
+    let r_a = rounded_to_f32(contact.point - a.position);
+    let r_b = rounded_to_f32(contact.point - b.position);
     let (slot_a, slot_b) = (slots.slot_of(contact.a), slots.slot_of(contact.b));
     let relative_velocity =
         velocity_at_start(b, slot_b, motions, r_b) - velocity_at_start(a, slot_a, motions, r_a);
@@ -156,8 +159,8 @@ pub(super) fn prepare<L: Lanes>(
         normal_to_tangent: normal_to_tangent(l, &side_a, &side_b, inv_masses, &across),
         a: side_a.into_lanes(),
         b: side_b.into_lanes(),
-        directions: F64x4::from_vec3s(directions),
-        across,
+        directions: narrowed(F64x4::from_vec3s(directions)),
+        across: narrowed(across),
         slots: [slot_a, slot_b],
         separation_offset,
         normal_mass,
@@ -170,6 +173,12 @@ pub(super) fn prepare<L: Lanes>(
         friction: (a.material.friction * b.material.friction).sqrt(),
         restitution: a.material.restitution.min(b.material.restitution),
     }
+}
+
+/// Three lanes as the passes store them.
+#[inline(always)]
+fn narrowed([x, y, z]: [F64x4; 3]) -> [F32x4; 3] {
+    [F32x4::narrowed(x), F32x4::narrowed(y), F32x4::narrowed(z)]
 }
 
 /// The mass an impulse along each direction meets: the inverse of the report's denominator
