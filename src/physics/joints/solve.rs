@@ -12,7 +12,7 @@
 //! a substep, `SolverBodies::store_warm_start`), which suits directions fixed for the step;
 //! a joint's turn with its bodies (a pendulum's rod), and carried that way its impulse of
 //! the last substep would keep its old direction and push the bob along its path, so the
-//! joints take what they gave out of that change (`end_substep`).
+//! joints take what they give out of that change as they give it (`Side::write`).
 
 use glam::{DMat3, DQuat, DVec3};
 
@@ -31,8 +31,6 @@ pub(crate) struct JointConstraint {
     index: usize,
     joint: Joint,
     sides: [Side; 2],
-    /// The linear and angular momentum the joint gave each body in this substep.
-    given: [[DVec3; 2]; 2],
 }
 
 /// One body of a prepared joint.
@@ -91,18 +89,23 @@ impl Side {
         }
     }
 
-    /// Adds the momenta the rows gave the body to its slot. A body that impulses do not
-    /// move (static, asleep, kinematic) is never written.
-    fn write(&self, view: &BodyView, slots: &mut [SolverBody], given: &mut [DVec3; 2]) {
+    /// Adds the momenta the rows gave the body to its slot, and counts them as given before
+    /// the contacts, so that the body carries only the contacts' share to the next
+    /// substep's warm start (see the module comment). A body that impulses do not move
+    /// (static, asleep, kinematic) is never written.
+    fn write(&self, view: &BodyView, slots: &mut [SolverBody]) {
         if self.inv_mass == 0.0 {
             return;
         }
         let slot = &mut slots[self.slot as usize];
-        let (linear, angular) = (view.linear_impulse, view.angular_impulse);
-        slot.linear_momentum = F64x4::from_vec3(slot.linear_momentum.to_vec3() + linear);
-        slot.angular_momentum = F64x4::from_vec3(slot.angular_momentum.to_vec3() + angular);
-        given[0] += linear;
-        given[1] += angular;
+        let impulses = [view.linear_impulse, view.angular_impulse];
+        let momenta = [&mut slot.linear_momentum, &mut slot.angular_momentum];
+        for (momentum, impulse) in momenta.into_iter().zip(impulses) {
+            *momentum = F64x4::from_vec3(momentum.to_vec3() + impulse);
+        }
+        for (before, impulse) in slot.before_contacts.iter_mut().zip(impulses) {
+            *before = F64x4::from_vec3(before.to_vec3() + impulse);
+        }
     }
 }
 
@@ -132,7 +135,6 @@ pub(crate) fn prepare(
             index,
             joint: *joint,
             sides,
-            given: [[DVec3::ZERO; 2]; 2],
         });
     }
 }
@@ -156,27 +158,10 @@ pub(crate) fn solve_all(prepared: &mut [JointConstraint], slots: &mut [SolverBod
     }
 }
 
-/// Ends a substep, before `SolverBodies::store_warm_start`: what the joints gave each body
-/// counts as given before the contacts, so that the bodies carry only the contacts' share
-/// to the next substep's warm start (see the module comment).
-pub(crate) fn end_substep(prepared: &mut [JointConstraint], slots: &mut [SolverBody]) {
-    for c in prepared.iter_mut() {
-        for (side, given) in c.sides.iter().zip(&mut c.given) {
-            if side.inv_mass != 0.0 {
-                let before = &mut slots[side.slot as usize].before_contacts;
-                before[0] = F64x4::from_vec3(before[0].to_vec3() + given[0]);
-                before[1] = F64x4::from_vec3(before[1].to_vec3() + given[1]);
-            }
-            *given = [DVec3::ZERO; 2];
-        }
-    }
-}
-
 impl JointConstraint {
-    fn write(&mut self, a: &BodyView, b: &BodyView, slots: &mut [SolverBody]) {
-        let [given_a, given_b] = &mut self.given;
-        self.sides[0].write(a, slots, given_a);
-        self.sides[1].write(b, slots, given_b);
+    fn write(&self, a: &BodyView, b: &BodyView, slots: &mut [SolverBody]) {
+        self.sides[0].write(a, slots);
+        self.sides[1].write(b, slots);
     }
 }
 

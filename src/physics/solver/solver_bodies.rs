@@ -54,6 +54,14 @@ impl SolverBody {
     }
 }
 
+/// A body whose spin a soft step limits (`SolverBodies::limit_spins`): its slot, and the
+/// angular momentum, kg·m²/s, below which it cannot spin faster than the limit.
+#[derive(Clone, Copy, Debug)]
+pub struct SpinGuard {
+    pub slot: u32,
+    pub momentum: f64,
+}
+
 /// What a kinematic body's slot scales its velocities by (see the module comment).
 pub const KINEMATIC_SCALE: f64 = 18_446_744_073_709_551_616.0; // 2^64
 
@@ -143,17 +151,18 @@ impl SolverBodies {
         }
     }
 
-    /// Slows each awake body whose angular momentum passes its guard (`guards`, by its place
-    /// in `awake`) and that spins faster than `max_spin`, rad/s, to that speed. The change is
-    /// kept out of the warm start, which holds only what the contacts gave.
-    pub fn limit_spins(&mut self, bodies: &[RigidBody], guards: &[f64], max_spin: f64) {
-        let slots = self.slots[1..].iter_mut().zip(&self.awake).zip(guards);
-        for ((slot, &index), &guard) in slots {
+    /// Slows each guarded body whose angular momentum passes its guard and that spins
+    /// faster than `max_spin`, rad/s, to that speed. The change is kept out of the warm
+    /// start, which holds only what the contacts gave.
+    pub fn limit_spins(&mut self, bodies: &[RigidBody], guards: &[SpinGuard], max_spin: f64) {
+        for guard in guards {
+            let slot = &mut self.slots[guard.slot as usize];
             let momentum = slot.angular_momentum.to_vec3();
-            if momentum.length_squared() <= guard * guard {
+            if momentum.length_squared() <= guard.momentum * guard.momentum {
                 continue;
             }
-            let spin = (bodies[index as usize].inv_inertia_world * momentum).length();
+            let body = &bodies[self.awake[guard.slot as usize - 1] as usize];
+            let spin = (body.inv_inertia_world * momentum).length();
             if spin > max_spin {
                 let removed = momentum * (1.0 - max_spin / spin);
                 slot.angular_momentum = F64x4::from_vec3(momentum - removed);

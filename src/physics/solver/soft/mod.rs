@@ -49,7 +49,7 @@ use crate::physics::solver::contact_colors::ContactColors;
 #[cfg(target_arch = "x86_64")]
 use crate::physics::solver::lanes::Avx2;
 use crate::physics::solver::lanes::{Lanes, Portable};
-use crate::physics::solver::solver_bodies::SolverBodies;
+use crate::physics::solver::solver_bodies::{SolverBodies, SpinGuard};
 use crate::physics::stage_times::timed;
 use constraint::PointConstraint;
 use prepare::SlotMotion;
@@ -161,8 +161,8 @@ pub struct SoftScratch {
     motions: Vec<SlotMotion>,
     bodies: SolverBodies,
     joints: Vec<JointConstraint>,
-    /// Each awake body's `spin_guards` (by its place in `awake`).
-    spin_guards: Vec<f64>,
+    /// The bodies whose spin the substeps limit (`spin_guards`).
+    spin_guards: SpinGuards,
 }
 
 impl SoftScratch {
@@ -261,7 +261,7 @@ fn step_inline<L: Lanes>(
         joint_solve::warm_start(joint_constraints, &mut slots.slots);
         joint_solve::solve_all(joint_constraints, &mut slots.slots, joints_biased);
         solve::for_each_contact(&mut slots.slots, constraints, colors, biased, h);
-        slots.limit_spins(bodies, guards, max_spin);
+        slots.limit_spins(bodies, &guards.list, max_spin);
         timed(ctx.timed, &mut integrate_seconds, || {
             slots.integrate_positions(bodies, |body| {
                 integrate::integrate_pose(body, h, ctx.integrator)
@@ -269,13 +269,12 @@ fn step_inline<L: Lanes>(
         });
         joint_solve::solve_all(joint_constraints, &mut slots.slots, joints_relax);
         solve::for_each_contact(&mut slots.slots, constraints, colors, Pass::Relax, h);
-        slots.limit_spins(bodies, guards, max_spin);
-        joint_solve::end_substep(joint_constraints, &mut slots.slots);
+        slots.limit_spins(bodies, &guards.list, max_spin);
         slots.store_warm_start(bodies, substep + 1 < substeps);
     }
     let threshold = ctx.settings.restitution_threshold;
     restitution::apply_restitution(slots, constraints, colors, threshold, h);
-    slots.limit_spins(bodies, guards, max_spin);
+    slots.limit_spins(bodies, &guards.list, max_spin);
     joint_solve::finish(joint_constraints, &slots.slots, joints, h);
     slots.write_back(bodies);
     slots.release();
@@ -292,34 +291,46 @@ fn step_inline<L: Lanes>(
 /// bound); free bodies keep any spin. Box2D limits every body the same way.
 const MAX_TURN_IN_CONTACT: f64 = 0.25 * std::f64::consts::PI;
 
-/// For each awake body (by its place in `awake`), the angular momentum below which it
-/// cannot spin faster than `max_spin`: that spin over trace(I⁻¹), which bounds the largest
-/// spin a momentum gives and does not change as the body turns. Infinite for a body that no
-/// contact point touches, or that no momentum spins (kinematic), so that the substeps'
-/// checks read no body but the few that spin near the limit.
+/// Lists each awake body that a contact point touches and momentum spins (not kinematic),
+/// with the angular momentum below which it cannot spin faster than `max_spin`: that spin
+/// over trace(I⁻¹), which bounds the largest spin a momentum gives and does not change as
+/// the body turns. The substeps' checks then read no body but the few near the limit, and
+/// visit none in a scene without contacts.
 fn spin_guards(
-    guards: &mut Vec<f64>,
+    guards: &mut SpinGuards,
     constraints: &[PointConstraint],
     bodies: &[RigidBody],
     awake: &[u32],
     max_spin: f64,
 ) {
-    guards.clear();
-    guards.resize(awake.len(), f64::INFINITY);
+    let SpinGuards { touched, list } = guards;
+    touched.clear();
+    touched.resize(awake.len(), false);
     for slot in constraints.iter().flat_map(|c| c.slots) {
         if let Some(k) = (slot as usize).checked_sub(1) {
-            guards[k] = 0.0; // touched: its guard follows, reading the bodies in order
+            touched[k] = true;
         }
     }
-    for (guard, &index) in guards.iter_mut().zip(awake) {
+    list.clear();
+    for (k, (&touches, &index)) in touched.iter().zip(awake).enumerate() {
         let body = &bodies[index as usize];
-        if *guard == 0.0 && !body.is_kinematic() {
+        if touches && !body.is_kinematic() {
             let m = body.inv_inertia_local;
-            *guard = max_spin / (m.x_axis.x + m.y_axis.y + m.z_axis.z);
-        } else {
-            *guard = f64::INFINITY;
+            list.push(SpinGuard {
+                slot: k as u32 + 1,
+                momentum: max_spin / (m.x_axis.x + m.y_axis.y + m.z_axis.z),
+            });
         }
     }
+}
+
+/// `spin_guards`' lists, kept between steps.
+#[derive(Clone, Debug, Default)]
+struct SpinGuards {
+    /// Whether a contact point touches each awake body (by its place in `awake`).
+    touched: Vec<bool>,
+    /// The touched bodies that momentum spins, in slot order.
+    list: Vec<SpinGuard>,
 }
 
 fn keep_user_forces(kept: &mut Vec<(DVec3, DVec3)>, bodies: &[RigidBody], awake: &[u32]) {
