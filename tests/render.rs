@@ -121,12 +121,13 @@ fn bounce_stack_spin_and_rain_match_goldens() {
     }
 }
 
-/// The scenes of joints and kinematic bodies: the cradle's pulled ball and the chain with its
-/// paddle, which only moves if the simulation drives its script.
+/// The scenes of joints and kinematic bodies: the cradle's pulled ball, the chain with its
+/// paddle, which only moves if the simulation drives its script, and the rope bridge's
+/// sagging deck with its hinges drawn.
 #[test]
-fn cradle_and_chain_match_goldens() {
+fn joint_scenes_match_goldens() {
     let gpu = gpu();
-    for scene in ["cradle_strings", "chain"] {
+    for scene in ["cradle_strings", "chain", "rope_bridge"] {
         check_scene_golden(&gpu, scene);
     }
 }

@@ -543,7 +543,12 @@ fn bad_scripts_name_the_file_body_and_field() {
 
 #[test]
 fn the_built_in_joint_scenes_hold_their_joints_and_run() {
-    for (name, joints, kinematic) in [("cradle_strings", 10, 0), ("chain", 20, 1)] {
+    let scenes = [
+        ("cradle_strings", 10, 0),
+        ("chain", 20, 1),
+        ("rope_bridge", 15, 0),
+    ];
+    for (name, joints, kinematic) in scenes {
         let scene = scene::find_builtin(name).unwrap().parse().unwrap();
         let scripts = scene.scripted_motions().unwrap();
         assert_eq!(scripts.len(), kinematic, "{name}");
@@ -559,6 +564,28 @@ fn the_built_in_joint_scenes_hold_their_joints_and_run() {
             let gap = anchor_gap(&world, joint);
             assert!(gap < 2e-3, "{name}: joint {id:?} apart by {gap} m");
         }
+    }
+}
+
+/// The rope bridge catches the three crates dropped on it and holds them on its deck: after
+/// 10 s each crate's centre is between 1 and 2 m up (on the deck, which hangs from 2 m and
+/// sags about 0.8 m; a crate on the ground would be at 0.2 m) and within the deck's 1 m
+/// width.
+#[test]
+fn the_rope_bridge_catches_its_crates() {
+    let scene = scene::find_builtin("rope_bridge").unwrap().parse().unwrap();
+    let mut world = scene.build_world().unwrap();
+    for _ in 0..2400 {
+        world.step(scene.settings.dt);
+    }
+    for name in ["crate_a", "crate_b", "crate_c"] {
+        let crate_body = world.bodies().iter().find(|b| b.name == name).unwrap();
+        let p = crate_body.position;
+        assert!(p.y > 1.0 && p.y < 2.0, "{name} at height {} m", p.y);
+        assert!(
+            p.x.abs() < 2.85 && p.z.abs() < 0.5,
+            "{name} off the deck at {p}"
+        );
     }
 }
 

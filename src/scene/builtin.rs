@@ -40,6 +40,7 @@ const BUILTIN_SCENES: &[BuiltinScene] = builtin![
     "hulls",
     "cradle_strings",
     "chain",
+    "rope_bridge",
 ];
 
 /// Every built-in scene, in menu order.
