@@ -62,6 +62,12 @@ pub(crate) mod tests {
         dir
     }
 
+    /// Asserts that `dir` holds one entry, the file a write made: no temporary was left.
+    pub(crate) fn assert_only_one_file(dir: &std::path::Path) {
+        let left: Vec<_> = std::fs::read_dir(dir).unwrap().collect();
+        assert_eq!(left.len(), 1, "a temporary file was left: {left:?}");
+    }
+
     #[test]
     fn a_write_replaces_the_file_and_leaves_no_temporary() {
         let dir = scratch_dir("replace");
@@ -69,8 +75,7 @@ pub(crate) mod tests {
         std::fs::write(&path, "old").unwrap();
         write_atomically(&path, "new").unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
-        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
-        assert_eq!(left.len(), 1, "{left:?}");
+        assert_only_one_file(&dir);
         std::fs::remove_dir_all(dir).unwrap();
     }
 

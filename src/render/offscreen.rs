@@ -125,7 +125,7 @@ fn extent((width, height): (u32, u32)) -> wgpu::Extent3d {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::output_file::tests::scratch_dir;
+    use crate::output_file::tests::{assert_only_one_file, scratch_dir};
 
     #[test]
     fn a_saved_png_reads_back_pixel_for_pixel() {
@@ -136,8 +136,7 @@ mod tests {
         });
         save_png(&image, &path).unwrap();
         assert_eq!(image::open(&path).unwrap().to_rgba8(), image);
-        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
-        assert_eq!(left.len(), 1, "a temporary file was left: {left:?}");
+        assert_only_one_file(&dir);
         std::fs::remove_dir_all(dir).unwrap();
     }
 
