@@ -30,7 +30,10 @@ fn main() -> Result<(), AddBodyError> {
                 .at(DVec3::Y * (0.5 * length + 0.1))
                 .rotated(turn),
             )?;
-            let energy = |w: &World| w.totals().kinetic_energy + w.totals().potential_energy;
+            let energy = |w: &World| {
+                let totals = w.totals();
+                totals.kinetic_energy + totals.potential_energy
+            };
             let start = energy(&world);
             let (mut peak, mut spin) = (start, 0.0f64);
             for _ in 0..STEPS {

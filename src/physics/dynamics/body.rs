@@ -519,7 +519,7 @@ pub const MIN_INERTIA_RATIO: f64 = 1e-4;
 /// `inertia` raised by the same amount about every axis, just enough that its smallest
 /// principal moment is `MIN_INERTIA_RATIO` of its largest (unchanged when it already is).
 /// Adding k·I keeps the principal axes and the larger moments nearly as they were.
-pub fn with_inertia_floor(inertia: DMat3) -> DMat3 {
+fn with_inertia_floor(inertia: DMat3) -> DMat3 {
     let [smallest, largest] = principal_extremes(inertia);
     let lift = (MIN_INERTIA_RATIO * largest - smallest) / (1.0 - MIN_INERTIA_RATIO);
     if lift > 0.0 {
@@ -531,7 +531,7 @@ pub fn with_inertia_floor(inertia: DMat3) -> DMat3 {
 
 /// The smallest and largest eigenvalues of a symmetric 3×3 matrix, in closed form (the
 /// trigonometric solution of its characteristic cubic).
-pub fn principal_extremes(m: DMat3) -> [f64; 2] {
+fn principal_extremes(m: DMat3) -> [f64; 2] {
     let off = m.y_axis.x.powi(2) + m.z_axis.x.powi(2) + m.z_axis.y.powi(2);
     let diagonal = DVec3::new(m.x_axis.x, m.y_axis.y, m.z_axis.z);
     if off == 0.0 {

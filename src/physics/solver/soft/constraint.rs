@@ -279,11 +279,11 @@ impl<V: LaneVector> SideGeometry<V> {
     pub(super) fn into_lanes(self) -> Side {
         Side {
             lever: F32x4::narrowed(F64x4::from_vec3(self.lever)),
-            spins: [
-                F32x4::narrowed(self.spins[0].store()),
-                F32x4::narrowed(self.spins[1].store()),
-                F32x4::narrowed(self.spins[2].store()),
-            ],
+            spins: F32x4::narrowed3([
+                self.spins[0].store(),
+                self.spins[1].store(),
+                self.spins[2].store(),
+            ]),
             anchor: F64x4::from_vec3(self.anchor),
         }
     }

@@ -284,8 +284,6 @@ fn step_inline<L: Lanes>(
     SoftStep { integrate_seconds }
 }
 
-/// The forces the user applied before the step, which act over all of it like the
-/// environment's (the substeps clear the bodies' accumulators).
 /// The most a body in contact may turn in one substep, rad: a contact cannot follow a body
 /// turning further (a thin rod spun about its axis by a glancing hit gained energy without
 /// bound); free bodies keep any spin. Box2D limits every body the same way.
@@ -333,6 +331,8 @@ struct SpinGuards {
     list: Vec<SpinGuard>,
 }
 
+/// The forces the user applied before the step, which act over all of it like the
+/// environment's (the substeps clear the bodies' accumulators).
 fn keep_user_forces(kept: &mut Vec<(DVec3, DVec3)>, bodies: &[RigidBody], awake: &[u32]) {
     kept.clear();
     kept.extend(awake.iter().map(|&i| {

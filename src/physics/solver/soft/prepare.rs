@@ -159,8 +159,8 @@ pub(super) fn prepare<L: Lanes>(
         normal_to_tangent: normal_to_tangent(l, &side_a, &side_b, inv_masses, &across),
         a: side_a.into_lanes(),
         b: side_b.into_lanes(),
-        directions: narrowed(F64x4::from_vec3s(directions)),
-        across: narrowed(across),
+        directions: F32x4::narrowed3(F64x4::from_vec3s(directions)),
+        across: F32x4::narrowed3(across),
         slots: [slot_a, slot_b],
         separation_offset,
         normal_mass,
@@ -173,12 +173,6 @@ pub(super) fn prepare<L: Lanes>(
         friction: (a.material.friction * b.material.friction).sqrt(),
         restitution: a.material.restitution.min(b.material.restitution),
     }
-}
-
-/// Three lanes as the passes store them.
-#[inline(always)]
-fn narrowed([x, y, z]: [F64x4; 3]) -> [F32x4; 3] {
-    [F32x4::narrowed(x), F32x4::narrowed(y), F32x4::narrowed(z)]
 }
 
 /// The mass an impulse along each direction meets: the inverse of the report's denominator
