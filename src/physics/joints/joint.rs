@@ -32,26 +32,31 @@ pub struct JointImpulses {
 }
 
 /// A joint between two bodies, as the world holds it (`World::joint`).
+///
+/// The fields a ball joint's rows read come first, then the other kinds', so that a pass over
+/// the joints touches as few cache lines as it can (`joints::solve`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[repr(C)]
 pub struct Joint {
-    /// The first body.
-    pub body_a: BodyId,
-    /// The second body.
-    pub body_b: BodyId,
     /// What the joint allows.
     pub kind: JointKind,
     /// The anchor on a, from its centre of mass in its body axes, m.
     pub local_anchor_a: DVec3,
     /// The anchor on b, from its centre of mass in its body axes, m.
     pub local_anchor_b: DVec3,
+    /// What the rows ended the last step with.
+    pub impulses: JointImpulses,
+    /// A hinge's angle, rad: b's turn about the axis relative to a since creation, counted
+    /// through whole turns (a wheel's keeps growing), so that limits beyond ±π and a
+    /// limit near π hold; a cone-twist's twist, counted the same way. Zero for the other
+    /// kinds.
+    #[serde(default)]
+    pub angle: f64,
     /// The unit axis in a's body axes (hinge, slider, cone-twist).
     pub local_axis_a: DVec3,
     /// The unit axis in b's body axes (hinge, cone-twist).
     pub local_axis_b: DVec3,
-    /// As `JointDesc::cone`.
-    #[serde(default = "half_turn")]
-    pub cone: f64,
     /// A unit direction across the axis in a's body axes, from which a hinge angle is
     /// measured.
     pub local_reference_a: DVec3,
@@ -59,6 +64,9 @@ pub struct Joint {
     pub local_reference_b: DVec3,
     /// b's orientation relative to a's at creation, q_a⁻¹ q_b (fixed, slider).
     pub relative_rotation: DQuat,
+    /// As `JointDesc::cone`.
+    #[serde(default = "half_turn")]
+    pub cone: f64,
     /// The distance between the anchors at creation, m (distance joints' spring length).
     pub length: f64,
     /// As `JointDesc::limits`; a distance joint without limits or spring holds [length,
@@ -69,21 +77,17 @@ pub struct Joint {
     /// As `JointDesc::servo`.
     #[serde(default)]
     pub servo: Option<Servo>,
+    /// As `JointDesc::spring`.
+    pub spring: Option<Spring>,
+    /// The first body.
+    pub body_a: BodyId,
+    /// The second body.
+    pub body_b: BodyId,
     /// As `JointDesc::breaking`.
     #[serde(default)]
     pub breaking: Option<Breaking>,
-    /// As `JointDesc::spring`.
-    pub spring: Option<Spring>,
     /// Whether the two bodies collide with each other.
     pub collide_connected: bool,
-    /// A hinge's angle, rad: b's turn about the axis relative to a since creation, counted
-    /// through whole turns (a wheel's keeps growing), so that limits beyond ±π and a
-    /// limit near π hold; a cone-twist's twist, counted the same way. Zero for the other
-    /// kinds.
-    #[serde(default)]
-    pub angle: f64,
-    /// What the rows ended the last step with.
-    pub impulses: JointImpulses,
     /// The force the joint put on b in the last step, N, world (a receives the opposite).
     pub reaction_force: DVec3,
     /// The torque the joint put on b in the last step about its anchor, N·m, world.

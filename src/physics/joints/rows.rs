@@ -83,25 +83,41 @@ pub(crate) fn solve_point(
 ) {
     let error = (b.position + rb) - (a.position + ra);
     let speed = b.point_velocity(rb) - a.point_velocity(ra);
-    let k = DMat3::from_diagonal(DVec3::splat(a.inv_mass + b.inv_mass))
-        + arm_mass(ra, a.inv_inertia)
-        + arm_mass(rb, b.inv_inertia);
-    let Some(mass) = inverse(k) else { return };
+    let mut k = arm_mass(ra, a.inv_inertia) + arm_mass(rb, b.inv_inertia);
+    let inv_mass = a.inv_mass + b.inv_mass;
+    k.x_axis.x += inv_mass;
+    k.y_axis.y += inv_mass;
+    k.z_axis.z += inv_mass;
     let (bias, mass_scale, impulse_scale) = vector_scales(pass, error);
-    let impulse = -(mass * (speed + bias)) * mass_scale - *accumulated * impulse_scale;
+    let Some(rigid) = solve3(k, speed + bias) else {
+        return;
+    };
+    let impulse = -rigid * mass_scale - *accumulated * impulse_scale;
     *accumulated += impulse;
     a.push_at(ra, -impulse);
     b.push_at(rb, impulse);
 }
 
 /// −[r]× I⁻¹ [r]×: what an impulse at lever r adds to the point's velocity through turning.
+/// Column k is (I⁻¹ u_k) × r with u_k = r × e_k, so entry (i, k) is u_i · I⁻¹ u_k: symmetric,
+/// and each u has a zero component, which the products skip.
 fn arm_mass(r: DVec3, inv_inertia: DMat3) -> DMat3 {
-    let skew = DMat3::from_cols(
-        DVec3::new(0.0, r.z, -r.y),
-        DVec3::new(-r.z, 0.0, r.x),
-        DVec3::new(r.y, -r.x, 0.0),
-    );
-    -(skew * inv_inertia * skew)
+    let (ix, iy, iz) = (inv_inertia.x_axis, inv_inertia.y_axis, inv_inertia.z_axis);
+    // I⁻¹ u_k for u_x = (0, r.z, −r.y), u_y = (−r.z, 0, r.x), u_z = (r.y, −r.x, 0).
+    let wx = iy * r.z - iz * r.y;
+    let wy = iz * r.x - ix * r.z;
+    let wz = ix * r.y - iy * r.x;
+    let xx = r.z * wx.y - r.y * wx.z;
+    let yy = r.x * wy.z - r.z * wy.x;
+    let zz = r.y * wz.x - r.x * wz.y;
+    let xy = r.z * wy.y - r.y * wy.z;
+    let xz = r.z * wz.y - r.y * wz.z;
+    let yz = r.x * wz.z - r.z * wz.x;
+    DMat3::from_cols(
+        DVec3::new(xx, xy, xz),
+        DVec3::new(xy, yy, yz),
+        DVec3::new(xz, yz, zz),
+    )
 }
 
 fn vector_scales(pass: RowPass, error: DVec3) -> (DVec3, f64, f64) {
@@ -111,9 +127,17 @@ fn vector_scales(pass: RowPass, error: DVec3) -> (DVec3, f64, f64) {
     }
 }
 
-fn inverse(k: DMat3) -> Option<DMat3> {
-    let det = k.determinant();
-    (det.abs() > 1e-300 && det.is_finite()).then(|| k.inverse())
+/// x with k x = v, None where k is singular: the rows of k⁻¹ are the cross products of
+/// k's columns over det k.
+fn solve3(k: DMat3, v: DVec3) -> Option<DVec3> {
+    let (x, y, z) = (k.x_axis, k.y_axis, k.z_axis);
+    let cofactors = [y.cross(z), z.cross(x), x.cross(y)];
+    let det = x.dot(cofactors[0]);
+    if !(det.abs() > 1e-300 && det.is_finite()) {
+        return None;
+    }
+    let [cx, cy, cz] = cofactors.map(|c| c.dot(v));
+    Some(DVec3::new(cx, cy, cz) / det)
 }
 
 /// No relative turn but about `free` (a hinge's axis; zero for none): `error` is the small
@@ -130,9 +154,11 @@ pub(crate) fn solve_angular(
     // Across the free axis the block is the bodies' inverse inertia; along it, 1 keeps it
     // invertible and, with a right-hand side across it, gives an impulse across it.
     let k = across * (a.inv_inertia + b.inv_inertia) * across + outer(free);
-    let Some(mass) = inverse(k) else { return };
     let (bias, mass_scale, impulse_scale) = vector_scales(pass, error);
-    let impulse = -(mass * (speed + bias)) * mass_scale - *accumulated * impulse_scale;
+    let Some(rigid) = solve3(k, speed + bias) else {
+        return;
+    };
+    let impulse = -rigid * mass_scale - *accumulated * impulse_scale;
     *accumulated += impulse;
     a.push(DVec3::ZERO, -impulse);
     b.push(DVec3::ZERO, impulse);

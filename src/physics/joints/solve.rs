@@ -24,32 +24,35 @@ use crate::physics::solver::lanes::F64x4;
 use crate::physics::solver::soft::Softness;
 use crate::physics::solver::solver_bodies::{FIXED_SLOT, SolverBodies, SolverBody};
 
-/// A joint prepared for one step.
+/// A joint prepared for one step. A pass streams these through memory, so the record holds
+/// only what the rows read, the sides first and then the joint (whose fields a ball joint
+/// reads come first: `Joint`), so that a ball joint's pass touches the record's first few
+/// cache lines (BENCHMARKS.md, "Compact joint records").
 #[derive(Clone, Copy, Debug)]
+#[repr(C)]
 pub(crate) struct JointConstraint {
+    sides: [Side; 2],
+    joint: Joint,
     /// Its place in the world's joint list.
     index: usize,
-    joint: Joint,
-    sides: [Side; 2],
 }
 
 /// One body of a prepared joint.
 #[derive(Clone, Copy, Debug)]
+#[repr(C)]
 struct Side {
     slot: u32,
+    /// The body's index in the world: where the pose of a body without a moving slot is
+    /// read (it does not change during the step).
+    body: u32,
     /// 1/m as impulses see it: zero unless the body is dynamic and awake.
     inv_mass: f64,
     /// I⁻¹ in world axes at step start, as impulses see it.
     inv_inertia: DMat3,
-    /// What turns the slot's angular momentum into the body's spin (I⁻¹ for a dynamic
-    /// body; a kinematic body's slot holds its spin scaled, see `SolverBodies`).
-    spin_of_momentum: DMat3,
-    /// The pose of a body without a moving slot, fixed for the step.
-    pose: (DVec3, DMat3),
 }
 
 impl Side {
-    fn new(body: &RigidBody, slot: u32) -> Side {
+    fn new(body: &RigidBody, index: usize, slot: u32) -> Side {
         let moves = slot != FIXED_SLOT && body.is_dynamic();
         let inv_mass = if moves { body.inv_mass } else { 0.0 };
         let inv_inertia = if moves {
@@ -59,24 +62,34 @@ impl Side {
         };
         Side {
             slot,
+            body: index as u32,
             inv_mass,
             inv_inertia,
-            spin_of_momentum: SolverBodies::spin_of_momentum(body),
-            pose: (body.position, body.orientation),
         }
     }
 
-    fn view(&self, slots: &[SolverBody]) -> BodyView {
-        let (mut position, mut orientation) = self.pose;
-        let (mut velocity, mut spin) = (DVec3::ZERO, DVec3::ZERO);
-        if self.slot != FIXED_SLOT {
+    #[inline(always)]
+    fn view(&self, slots: &[SolverBody], bodies: &[RigidBody]) -> BodyView {
+        let (position, orientation, velocity, spin) = if self.slot == FIXED_SLOT {
+            let body = &bodies[self.body as usize];
+            (body.position, body.orientation, DVec3::ZERO, DVec3::ZERO)
+        } else {
             let slot = &slots[self.slot as usize];
-            position = slot.position.to_vec3();
             let [x, y, z] = slot.orientation.map(|c| c.to_vec3());
-            orientation = DMat3::from_cols(x, y, z);
-            velocity = slot.linear_momentum.to_vec3() * slot.inv_mass;
-            spin = self.spin_of_momentum * slot.angular_momentum.to_vec3();
-        }
+            let momentum = slot.angular_momentum.to_vec3();
+            // A kinematic body's slot holds its spin scaled as its velocity (`SolverBodies`).
+            let spin = if self.inv_mass != 0.0 {
+                self.inv_inertia * momentum
+            } else {
+                momentum * slot.inv_mass
+            };
+            (
+                slot.position.to_vec3(),
+                DMat3::from_cols(x, y, z),
+                slot.linear_momentum.to_vec3() * slot.inv_mass,
+                spin,
+            )
+        };
         BodyView {
             position,
             orientation,
@@ -125,8 +138,8 @@ pub(crate) fn prepare(
             continue;
         }
         let sides = [
-            Side::new(&bodies[a], slots.slot_of(a)),
-            Side::new(&bodies[b], slots.slot_of(b)),
+            Side::new(&bodies[a], a, slots.slot_of(a)),
+            Side::new(&bodies[b], b, slots.slot_of(b)),
         ];
         if sides.iter().all(|s| s.inv_mass == 0.0) {
             continue;
@@ -141,24 +154,41 @@ pub(crate) fn prepare(
 
 /// A substep's warm start: each joint's impulses of the last substep (or step), along its
 /// directions now.
-pub(crate) fn warm_start(prepared: &mut [JointConstraint], slots: &mut [SolverBody]) {
+pub(crate) fn warm_start(
+    prepared: &mut [JointConstraint],
+    slots: &mut [SolverBody],
+    bodies: &[RigidBody],
+) {
     for c in prepared.iter_mut() {
-        let [mut a, mut b] = c.sides.map(|s| s.view(slots));
+        let (mut a, mut b) = c.views(slots, bodies);
         apply_held_impulses(&c.joint, [&mut a, &mut b]);
         c.write(&a, &b, slots);
     }
 }
 
 /// One pass over the joints, in order (see the module comment).
-pub(crate) fn solve_all(prepared: &mut [JointConstraint], slots: &mut [SolverBody], pass: RowPass) {
+pub(crate) fn solve_all(
+    prepared: &mut [JointConstraint],
+    slots: &mut [SolverBody],
+    bodies: &[RigidBody],
+    pass: RowPass,
+) {
     for c in prepared.iter_mut() {
-        let [mut a, mut b] = c.sides.map(|s| s.view(slots));
+        let (mut a, mut b) = c.views(slots, bodies);
         solve_joint(&mut c.joint, [&mut a, &mut b], pass);
         c.write(&a, &b, slots);
     }
 }
 
 impl JointConstraint {
+    /// Both bodies as the rows see them now (the sides read in place: copied out whole, as
+    /// an array `map` does, they went through a call to `memcpy` per joint).
+    #[inline(always)]
+    fn views(&self, slots: &[SolverBody], bodies: &[RigidBody]) -> (BodyView, BodyView) {
+        let [a, b] = &self.sides;
+        (a.view(slots, bodies), b.view(slots, bodies))
+    }
+
     fn write(&self, a: &BodyView, b: &BodyView, slots: &mut [SolverBody]) {
         self.sides[0].write(a, slots);
         self.sides[1].write(b, slots);
@@ -171,11 +201,12 @@ impl JointConstraint {
 pub(crate) fn finish(
     prepared: &[JointConstraint],
     slots: &[SolverBody],
+    bodies: &[RigidBody],
     joints: &mut [Option<Joint>],
     h: f64,
 ) {
     for c in prepared {
-        let [mut a, mut b] = c.sides.map(|s| s.view(slots));
+        let (mut a, mut b) = c.views(slots, bodies);
         apply_held_impulses(&c.joint, [&mut a, &mut b]);
         let rb = b.orientation * c.joint.local_anchor_b;
         let Some(joint) = joints[c.index].as_mut() else {
@@ -192,8 +223,6 @@ pub(crate) fn finish(
 struct Geometry {
     ra: DVec3,
     rb: DVec3,
-    /// The axis as a carries it (hinge, slider).
-    axis: DVec3,
 }
 
 impl Geometry {
@@ -201,8 +230,13 @@ impl Geometry {
         Geometry {
             ra: a.orientation * joint.local_anchor_a,
             rb: b.orientation * joint.local_anchor_b,
-            axis: a.orientation * joint.local_axis_a,
         }
+    }
+
+    /// The joint's axis as a carries it (hinge, slider): not read by the other kinds, whose
+    /// passes then skip that part of the record.
+    fn axis(joint: &Joint, a: &BodyView) -> DVec3 {
+        a.orientation * joint.local_axis_a
     }
 
     /// From a's anchor to b's.
@@ -227,9 +261,10 @@ fn solve_joint(joint: &mut Joint, [a, b]: [&mut BodyView; 2], pass: RowPass) {
         JointKind::Hinge => {
             joint.angle = hinge_angle(joint, a, b);
             let drives = Drives::of(joint, pass);
-            axial_rows([a, b], g.axis, joint.angle, drives, impulses, pass);
-            let error = g.axis.cross(b.orientation * joint.local_axis_b);
-            solve_angular([a, b], g.axis, error, &mut impulses.angular, pass);
+            let axis = Geometry::axis(joint, a);
+            axial_rows([a, b], axis, joint.angle, drives, impulses, pass);
+            let error = axis.cross(b.orientation * joint.local_axis_b);
+            solve_angular([a, b], axis, error, &mut impulses.angular, pass);
             solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass);
         }
         JointKind::Slider => solve_slider(joint, impulses, &g, [a, b], pass),
@@ -385,9 +420,10 @@ fn solve_slider(
     pass: RowPass,
 ) {
     let d = g.separation(a, b);
-    let offset = g.axis.dot(d);
+    let axis = Geometry::axis(joint, a);
+    let offset = axis.dot(d);
     let along = LinearRow {
-        n: g.axis,
+        n: axis,
         ra: g.ra + d,
         rb: g.rb,
     };
@@ -403,7 +439,7 @@ fn solve_slider(
     }
     let error = rotation_error(joint, a, b);
     solve_angular([a, b], DVec3::ZERO, error, &mut impulses.angular, pass);
-    let (t1, t2) = g.axis.any_orthonormal_pair();
+    let (t1, t2) = axis.any_orthonormal_pair();
     for (k, n) in [t1, t2].into_iter().enumerate() {
         let d = g.separation(a, b);
         let row = LinearRow { n, ..along };
@@ -531,16 +567,17 @@ fn apply_held_impulses(joint: &Joint, [a, b]: [&mut BodyView; 2]) {
     b.push(DVec3::ZERO, i.angular);
     let (n, ra) = match joint.kind {
         JointKind::Hinge => {
-            let axial = g.axis * (i.motor + i.servo + i.lower - i.upper);
+            let axial = Geometry::axis(joint, a) * (i.motor + i.servo + i.lower - i.upper);
             a.push(DVec3::ZERO, -axial);
             b.push(DVec3::ZERO, axial);
             return;
         }
         JointKind::Slider => {
-            let (t1, t2) = g.axis.any_orthonormal_pair();
+            let axis = Geometry::axis(joint, a);
+            let (t1, t2) = axis.any_orthonormal_pair();
             let across = t1 * i.across[0] + t2 * i.across[1];
             (
-                g.axis * (i.motor + i.servo + i.lower - i.upper) + across,
+                axis * (i.motor + i.servo + i.lower - i.upper) + across,
                 g.ra + d,
             )
         }

@@ -258,8 +258,8 @@ fn step_inline<L: Lanes>(
                 integrate::integrate_momenta(body, h);
             })
         });
-        joint_solve::warm_start(joint_constraints, &mut slots.slots);
-        joint_solve::solve_all(joint_constraints, &mut slots.slots, joints_biased);
+        joint_solve::warm_start(joint_constraints, &mut slots.slots, bodies);
+        joint_solve::solve_all(joint_constraints, &mut slots.slots, bodies, joints_biased);
         solve::for_each_contact(&mut slots.slots, constraints, colors, biased, h);
         slots.limit_spins(bodies, &guards.list, max_spin);
         timed(ctx.timed, &mut integrate_seconds, || {
@@ -267,7 +267,7 @@ fn step_inline<L: Lanes>(
                 integrate::integrate_pose(body, h, ctx.integrator)
             })
         });
-        joint_solve::solve_all(joint_constraints, &mut slots.slots, joints_relax);
+        joint_solve::solve_all(joint_constraints, &mut slots.slots, bodies, joints_relax);
         solve::for_each_contact(&mut slots.slots, constraints, colors, Pass::Relax, h);
         slots.limit_spins(bodies, &guards.list, max_spin);
         slots.store_warm_start(bodies, substep + 1 < substeps);
@@ -275,7 +275,7 @@ fn step_inline<L: Lanes>(
     let threshold = ctx.settings.restitution_threshold;
     restitution::apply_restitution(slots, constraints, colors, threshold, h);
     slots.limit_spins(bodies, &guards.list, max_spin);
-    joint_solve::finish(joint_constraints, &slots.slots, joints, h);
+    joint_solve::finish(joint_constraints, &slots.slots, bodies, joints, h);
     slots.write_back(bodies);
     slots.release();
     for &index in awake {
