@@ -1,18 +1,22 @@
 //! The joints' share of a soft step (`solver::soft`): **prepare** (each joint's bodies'
 //! solver slots and inverse masses), the first **warm start** (the impulses the joint
-//! ended the last step with), the **biased** and **relax** passes of each substep, and
+//! ended the last step with), the **biased** and **relax** passes of each substep (the
+//! relax pass also holds the next substep's warm start), and
 //! **finish** (impulses kept for the next step, the reaction measured).
 //!
 //! The joints are solved serially, in the order they were added, before the contacts'
 //! colours in each pass: the result stays deterministic with any number of threads, and
 //! the contacts see bodies the joints have already held together.
 //!
-//! Each substep a joint warm starts itself, along its directions at the bodies' current
-//! poses. The contacts' warm start is carried per body instead (the change in momenta over
-//! a substep, `SolverBodies::store_warm_start`), which suits directions fixed for the step;
-//! a joint's turn with its bodies (a pendulum's rod), and carried that way its impulse of
-//! the last substep would keep its old direction and push the bob along its path, so the
-//! joints take what they give out of that change as they give it (`Side::write`).
+//! A joint's warm start is its impulses along its directions at the poses where the bodies
+//! start the substep. Those are the poses where the last relax pass left them, so that pass
+//! computes it and holds it in the bodies' slots (`SolverBody::joints_warm_start`), which
+//! apply it as the next substep starts: no pass of its own. The contacts' warm start is
+//! carried per body differently (the change in momenta over a substep,
+//! `SolverBodies::store_warm_start`), which suits directions fixed for the step; a joint's
+//! turn with its bodies (a pendulum's rod), and carried that way its impulse of the last
+//! substep would keep its old direction and push the bob along its path, so the joints take
+//! what they give out of that change as they give it (`Side::write`).
 
 use glam::{DMat3, DQuat, DVec3};
 
@@ -102,6 +106,19 @@ impl Side {
         }
     }
 
+    /// Adds `impulse` to the slot's joints' warm start (a body that impulses do not move is
+    /// never written).
+    fn hold(&self, impulse: Impulse, slots: &mut [SolverBody]) {
+        if self.inv_mass == 0.0 {
+            return;
+        }
+        let held = &mut slots[self.slot as usize].joints_warm_start;
+        let impulses = [impulse.linear, impulse.angular];
+        for (total, impulse) in held.iter_mut().zip(impulses) {
+            *total = F64x4::from_vec3(total.to_vec3() + impulse);
+        }
+    }
+
     /// Adds the momenta the rows gave the body to its slot, and counts them as given before
     /// the contacts, so that the body carries only the contacts' share to the next
     /// substep's warm start (see the module comment). A body that impulses do not move
@@ -152,35 +169,54 @@ pub(crate) fn prepare(
     }
 }
 
-/// A substep's warm start: each joint's impulses of the last substep (or step), along its
-/// directions now.
-pub(crate) fn warm_start(
-    prepared: &mut [JointConstraint],
+/// The first substep's warm start: each joint's impulses of the last step, along its
+/// directions at step start, held in the slots until the substep starts.
+pub(crate) fn hold_first_warm_start(
+    prepared: &[JointConstraint],
     slots: &mut [SolverBody],
     bodies: &[RigidBody],
 ) {
-    for c in prepared.iter_mut() {
-        let (mut a, mut b) = c.views(slots, bodies);
-        apply_held_impulses(&c.joint, [&mut a, &mut b]);
-        c.write(&a, &b, slots);
+    for c in prepared {
+        let (a, b) = c.views(slots, bodies);
+        c.hold_warm_start(&a, &b, slots);
     }
 }
 
-/// One pass over the joints, in order (see the module comment).
+/// Whether a relax pass also holds the next substep's warm start.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum NextSubstep {
+    WarmStart,
+    None,
+}
+
+/// One pass over the joints, in order (see the module comment); a relax pass followed by a
+/// substep then holds that substep's warm start.
 pub(crate) fn solve_all(
     prepared: &mut [JointConstraint],
     slots: &mut [SolverBody],
     bodies: &[RigidBody],
     pass: RowPass,
+    next: NextSubstep,
 ) {
     for c in prepared.iter_mut() {
         let (mut a, mut b) = c.views(slots, bodies);
         solve_joint(&mut c.joint, [&mut a, &mut b], pass);
         c.write(&a, &b, slots);
+        if next == NextSubstep::WarmStart {
+            c.hold_warm_start(&a, &b, slots);
+        }
     }
 }
 
 impl JointConstraint {
+    /// Holds the impulses the joint holds, along its directions at the views' poses, in its
+    /// bodies' slots for the next warm start.
+    fn hold_warm_start(&self, a: &BodyView, b: &BodyView, slots: &mut [SolverBody]) {
+        let [on_a, on_b] = held_impulses(&self.joint, a, b);
+        self.sides[0].hold(on_a, slots);
+        self.sides[1].hold(on_b, slots);
+    }
+
     /// Both bodies as the rows see them now (the sides read in place: copied out whole, as
     /// an array `map` does, they went through a call to `memcpy` per joint).
     #[inline(always)]
@@ -206,16 +242,16 @@ pub(crate) fn finish(
     h: f64,
 ) {
     for c in prepared {
-        let (mut a, mut b) = c.views(slots, bodies);
-        apply_held_impulses(&c.joint, [&mut a, &mut b]);
+        let (a, b) = c.views(slots, bodies);
+        let [_, on_b] = held_impulses(&c.joint, &a, &b);
         let rb = b.orientation * c.joint.local_anchor_b;
         let Some(joint) = joints[c.index].as_mut() else {
             continue;
         };
         joint.impulses = c.joint.impulses;
         joint.angle = c.joint.angle;
-        joint.reaction_force = b.linear_impulse / h;
-        joint.reaction_torque = (b.angular_impulse - rb.cross(b.linear_impulse)) / h;
+        joint.reaction_force = on_b.linear / h;
+        joint.reaction_torque = (on_b.angular - rb.cross(on_b.linear)) / h;
     }
 }
 
@@ -555,45 +591,66 @@ fn continued(last: f64, measured: f64) -> f64 {
     last + step - turns * std::f64::consts::TAU
 }
 
-/// Adds the impulses the joint holds to the views, along the current directions (a warm
-/// start; a reaction).
-fn apply_held_impulses(joint: &Joint, [a, b]: [&mut BodyView; 2]) {
+/// The linear and angular impulse on a and on b of the impulses the joint holds, along its
+/// directions at the views' poses (a warm start; a reaction).
+fn held_impulses(joint: &Joint, a: &BodyView, b: &BodyView) -> [Impulse; 2] {
     let g = Geometry::of(joint, a, b);
-    let i = joint.impulses;
-    let d = g.separation(a, b);
-    a.push_at(g.ra, -i.point);
-    b.push_at(g.rb, i.point);
-    a.push(DVec3::ZERO, -i.angular);
-    b.push(DVec3::ZERO, i.angular);
+    let i = &joint.impulses;
+    let mut on_a = Impulse::at(g.ra, -i.point).turned(-i.angular);
+    let mut on_b = Impulse::at(g.rb, i.point).turned(i.angular);
     let (n, ra) = match joint.kind {
+        JointKind::Ball | JointKind::Fixed => return [on_a, on_b],
         JointKind::Hinge => {
             let axial = Geometry::axis(joint, a) * (i.motor + i.servo + i.lower - i.upper);
-            a.push(DVec3::ZERO, -axial);
-            b.push(DVec3::ZERO, axial);
-            return;
+            return [on_a.turned(-axial), on_b.turned(axial)];
+        }
+        JointKind::ConeTwist => {
+            let cone = ConeGeometry::of(joint, a, b);
+            let turn = -cone.swing_axis * i.along + cone.twist_axis * (i.lower - i.upper);
+            return [on_a.turned(-turn), on_b.turned(turn)];
         }
         JointKind::Slider => {
             let axis = Geometry::axis(joint, a);
             let (t1, t2) = axis.any_orthonormal_pair();
             let across = t1 * i.across[0] + t2 * i.across[1];
-            (
-                axis * (i.motor + i.servo + i.lower - i.upper) + across,
-                g.ra + d,
-            )
+            let along = axis * (i.motor + i.servo + i.lower - i.upper);
+            (along + across, g.ra + g.separation(a, b))
         }
         JointKind::Distance => {
-            let n = d.normalize_or_zero();
+            let n = g.separation(a, b).normalize_or_zero();
             (n * (i.along + i.lower - i.upper), g.ra)
         }
-        JointKind::ConeTwist => {
-            let cone = ConeGeometry::of(joint, a, b);
-            let turn = -cone.swing_axis * i.along + cone.twist_axis * (i.lower - i.upper);
-            a.push(DVec3::ZERO, -turn);
-            b.push(DVec3::ZERO, turn);
-            return;
-        }
-        JointKind::Ball | JointKind::Fixed => return,
     };
-    a.push_at(ra, -n);
-    b.push_at(g.rb, n);
+    on_a.add(Impulse::at(ra, -n));
+    on_b.add(Impulse::at(g.rb, n));
+    [on_a, on_b]
+}
+
+/// A linear impulse and an angular one, about the centre of mass.
+#[derive(Clone, Copy, Debug)]
+struct Impulse {
+    linear: DVec3,
+    angular: DVec3,
+}
+
+impl Impulse {
+    /// A linear impulse at the lever `r`.
+    fn at(r: DVec3, linear: DVec3) -> Impulse {
+        Impulse {
+            linear,
+            angular: r.cross(linear),
+        }
+    }
+
+    fn turned(self, angular: DVec3) -> Impulse {
+        Impulse {
+            angular: self.angular + angular,
+            ..self
+        }
+    }
+
+    fn add(&mut self, other: Impulse) {
+        self.linear += other.linear;
+        self.angular += other.angular;
+    }
 }

@@ -40,6 +40,9 @@ pub struct SolverBody {
     /// The momenta before this substep's warm start: what the contacts have added since is
     /// the next substep's warm start (`store_warm_start`).
     pub before_contacts: [F64x4; 2],
+    /// The linear and angular impulse the body's joints give it at the next warm start,
+    /// along their directions where the last relax pass left the bodies (`joints::solve`).
+    pub joints_warm_start: [F64x4; 2],
 }
 
 impl SolverBody {
@@ -76,6 +79,7 @@ const FIXED: SolverBody = SolverBody {
     orientation: [F64x4::ZERO; 3],
     warm_start: [F64x4::ZERO; 2],
     before_contacts: [F64x4::ZERO; 2],
+    joints_warm_start: [F64x4::ZERO; 2],
 };
 
 /// Slots of the awake bodies, kept between steps so that no step allocates.
@@ -126,8 +130,9 @@ impl SolverBodies {
 
     /// Starts a substep (**integrate velocities**, **warm start**): `integrate` changes the
     /// momenta of each awake body (the forces; it gets the body's place in `awake`), then the
-    /// slot reads them and applies the warm start, remembering the momenta before it. One
-    /// loop over the bodies, not three.
+    /// slot reads them and applies the warm start, the joints' share and then the
+    /// contacts', remembering the momenta before the contacts' share. One loop over the
+    /// bodies, not three.
     #[inline(always)]
     pub fn integrate_velocities_and_warm_start(
         &mut self,
@@ -141,10 +146,13 @@ impl SolverBodies {
                 continue;
             }
             integrate(k, body);
+            // The joints' share first: it is not the contacts' (see `before_contacts`).
+            let [joint_linear, joint_angular] = slot.joints_warm_start;
             slot.before_contacts = [
-                F64x4::from_vec3(body.linear_momentum),
-                F64x4::from_vec3(body.angular_momentum),
+                F64x4::from_vec3(body.linear_momentum) + joint_linear,
+                F64x4::from_vec3(body.angular_momentum) + joint_angular,
             ];
+            slot.joints_warm_start = [F64x4::ZERO; 2];
             let [linear, angular] = slot.warm_start;
             slot.linear_momentum = slot.before_contacts[0] + linear;
             slot.angular_momentum = slot.before_contacts[1] + angular;
@@ -253,6 +261,7 @@ fn gathered_at_rest(body: &RigidBody) -> SolverBody {
         orientation: columns(&body.orientation),
         warm_start: [F64x4::ZERO; 2],
         before_contacts: [F64x4::ZERO; 2],
+        joints_warm_start: [F64x4::ZERO; 2],
     }
 }
 

@@ -8,7 +8,7 @@
 //!    The joints are prepared alongside (`joints::solve`).
 //! 2. each substep of length h = dt / substeps:
 //!    **integrate velocities** (forces) and apply the **warm start** (the joints' along
-//!    their directions at the substep's poses) →
+//!    their directions at the substep's poses, held by the last relax pass) →
 //!    **solve** the joints, then the contacts, with a soft position bias (`solve`) →
 //!    **integrate positions** → **relax**: solve joints and contacts again without bias,
 //!    removing the velocity the bias added → keep what the joints and contacts gave each
@@ -44,7 +44,7 @@ use crate::physics::dynamics::forces::{self, EnvironmentForce};
 use crate::physics::dynamics::integrate::{self, Integrator};
 use crate::physics::joints::joint::Joint;
 use crate::physics::joints::rows::RowPass;
-use crate::physics::joints::solve::{self as joint_solve, JointConstraint};
+use crate::physics::joints::solve::{self as joint_solve, JointConstraint, NextSubstep};
 use crate::physics::solver::contact_colors::ContactColors;
 #[cfg(target_arch = "x86_64")]
 use crate::physics::solver::lanes::Avx2;
@@ -249,8 +249,14 @@ fn step_inline<L: Lanes>(
         h,
     };
     let joints_relax = RowPass { softness: None, h };
+    joint_solve::hold_first_warm_start(joint_constraints, &mut slots.slots, bodies);
     let mut integrate_seconds = 0.0;
     for substep in 0..substeps {
+        let next = if substep + 1 < substeps {
+            NextSubstep::WarmStart
+        } else {
+            NextSubstep::None
+        };
         timed(ctx.timed, &mut integrate_seconds, || {
             slots.integrate_velocities_and_warm_start(bodies, |k, body| {
                 (body.force, body.torque) = user_forces[k];
@@ -258,8 +264,8 @@ fn step_inline<L: Lanes>(
                 integrate::integrate_momenta(body, h);
             })
         });
-        joint_solve::warm_start(joint_constraints, &mut slots.slots, bodies);
-        joint_solve::solve_all(joint_constraints, &mut slots.slots, bodies, joints_biased);
+        let (joint_slots, none) = (&mut slots.slots, NextSubstep::None);
+        joint_solve::solve_all(joint_constraints, joint_slots, bodies, joints_biased, none);
         solve::for_each_contact(&mut slots.slots, constraints, colors, biased, h);
         slots.limit_spins(bodies, &guards.list, max_spin);
         timed(ctx.timed, &mut integrate_seconds, || {
@@ -267,7 +273,13 @@ fn step_inline<L: Lanes>(
                 integrate::integrate_pose(body, h, ctx.integrator)
             })
         });
-        joint_solve::solve_all(joint_constraints, &mut slots.slots, bodies, joints_relax);
+        joint_solve::solve_all(
+            joint_constraints,
+            &mut slots.slots,
+            bodies,
+            joints_relax,
+            next,
+        );
         solve::for_each_contact(&mut slots.slots, constraints, colors, Pass::Relax, h);
         slots.limit_spins(bodies, &guards.list, max_spin);
         slots.store_warm_start(bodies, substep + 1 < substeps);
