@@ -21,7 +21,8 @@ use std::ops::{Add, AddAssign, Mul, Neg, Sub};
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::{
     __m256d, _mm_loadu_ps, _mm256_add_pd, _mm256_cvtps_pd, _mm256_loadu_pd, _mm256_mul_pd,
-    _mm256_permute4x64_pd, _mm256_set1_pd, _mm256_storeu_pd, _mm256_sub_pd, _mm256_xor_pd,
+    _mm256_permute2f128_pd, _mm256_permute4x64_pd, _mm256_set1_pd, _mm256_setzero_pd,
+    _mm256_storeu_pd, _mm256_sub_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd, _mm256_xor_pd,
 };
 
 use glam::DVec3;
@@ -58,11 +59,6 @@ impl F64x4 {
             F64x4([a.y, b.y, c.y, 0.0]),
             F64x4([a.z, b.z, c.z, 0.0]),
         ]
-    }
-
-    /// Each vector's components in lanes 0 to 2.
-    pub fn from_vec3s([a, b, c]: [DVec3; 3]) -> [F64x4; 3] {
-        [Self::from_vec3(a), Self::from_vec3(b), Self::from_vec3(c)]
     }
 
     #[inline(always)]
@@ -194,6 +190,9 @@ pub trait Lanes: Copy {
     fn load(self, stored: F64x4) -> Self::Vector;
     /// The f32 lanes widened to f64.
     fn load_narrow(self, stored: F32x4) -> Self::Vector;
+    /// Three rows of f32 lanes, widened to f64, as columns: lane c of column k is lane k of
+    /// row c (lane 3 zero), e.g. three vectors from their components held in lanes.
+    fn load_narrow_columns(self, rows: &[F32x4; 3]) -> [Self::Vector; 3];
 }
 
 /// Four lanes in registers, loaded from an `F64x4` and stored back to one.
@@ -234,6 +233,11 @@ impl Lanes for Portable {
     #[inline(always)]
     fn load_narrow(self, stored: F32x4) -> F64x4 {
         stored.widened()
+    }
+    #[inline(always)]
+    fn load_narrow_columns(self, [x, y, z]: &[F32x4; 3]) -> [F64x4; 3] {
+        let column = |k: usize| F64x4([x.0[k], y.0[k], z.0[k], 0.0].map(f64::from));
+        [column(0), column(1), column(2)]
     }
 }
 
@@ -278,6 +282,24 @@ impl Lanes for Avx2 {
     fn load_narrow(self, stored: F32x4) -> Avx2Vector {
         // SAFETY: `self` proves AVX2 (see `Avx2`); the pointer reads the four lanes.
         Avx2Vector(unsafe { _mm256_cvtps_pd(_mm_loadu_ps(stored.0.as_ptr())) })
+    }
+    #[inline(always)]
+    fn load_narrow_columns(self, [x, y, z]: &[F32x4; 3]) -> [Avx2Vector; 3] {
+        let [x, y, z] = [x, y, z].map(|row| self.load_narrow(*row).0);
+        // SAFETY: `self` proves AVX2 (see `Avx2`).
+        unsafe {
+            let zero = _mm256_setzero_pd();
+            // (x0, y0, x2, y2), (x1, y1, x3, y3), (z0, 0, z2, 0), (z1, 0, z3, 0).
+            let xy_even = _mm256_unpacklo_pd(x, y);
+            let xy_odd = _mm256_unpackhi_pd(x, y);
+            let z_even = _mm256_unpacklo_pd(z, zero);
+            let z_odd = _mm256_unpackhi_pd(z, zero);
+            [
+                Avx2Vector(_mm256_permute2f128_pd(xy_even, z_even, 0x20)),
+                Avx2Vector(_mm256_permute2f128_pd(xy_odd, z_odd, 0x20)),
+                Avx2Vector(_mm256_permute2f128_pd(xy_even, z_even, 0x31)),
+            ]
+        }
     }
 }
 
@@ -405,6 +427,21 @@ mod tests {
             same(pa.cross(pb).store(), a.cross(b));
             let narrow = F32x4([0.1, -2.7e30, 1e-40, -0.0]);
             same(avx.load_narrow(narrow).store(), narrow.widened());
+            let rows = [
+                narrow,
+                F32x4([1.5, -0.25, 3e-8, 7.0]),
+                F32x4([-9.0, 0.0, 2.5e10, -1.0]),
+            ];
+            let (packed, portable) = (
+                avx.load_narrow_columns(&rows),
+                Portable.load_narrow_columns(&rows),
+            );
+            for (packed, portable) in packed.iter().zip(portable) {
+                same(packed.store(), portable);
+            }
+            // Column 2 is lane 2 of each row.
+            let third = [1e-40f32, 3e-8, 2.5e10, 0.0].map(f64::from);
+            assert_eq!(Portable.load_narrow_columns(&rows)[2].0, third);
             assert_eq!(pa.dot3(DVec3::X), a.dot3(DVec3::X));
         }
     }

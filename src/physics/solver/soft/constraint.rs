@@ -18,12 +18,15 @@ use crate::physics::solver::solver_bodies::{
 /// A pass streams the constraints through memory, so only what shortens a point's solve is
 /// stored: the spins that give the speeds from the momenta (`Side::spins`); the turning an
 /// impulse gives is derived from the levers. The directions, levers and spins are stored
-/// as f32 (`F32x4`, 448 bytes a point instead of 672) and widened to f64 as a pass loads
-/// them; `prepare` rounds the directions and levers first, so that the passes solve the
-/// constraint it prepared. The fields are laid out in the order a pass reads them, so that
-/// the processor's prefetcher sees one forward stream.
+/// as f32 (`F32x4`) and widened to f64 as a pass loads them; `prepare` rounds the
+/// directions and levers first, so that the passes solve the constraint it prepared. The
+/// directions are stored once, transposed (`across`), and turned back into vectors where
+/// an impulse needs them. The anchors, which only the relax pass reads, are kept apart
+/// (`PointAnchors`). The fields are laid out in the order a pass reads them, so that the
+/// processor's prefetcher sees one forward stream, and a record is five whole cache lines
+/// (BENCHMARKS.md, "Narrow contact records", "Contact records in five cache lines").
 #[derive(Clone, Copy, Debug, Default)]
-#[repr(C)]
+#[repr(C, align(64))]
 pub(super) struct PointConstraint {
     /// The solver slots of a and b.
     pub(super) slots: [u32; 2],
@@ -68,20 +71,22 @@ pub(super) struct PointConstraint {
     pub(super) restitution: f64,
     /// Separation = normal · (world anchor b − world anchor a) + separation_offset.
     pub(super) separation_offset: f64,
-    /// The normal and the tangents transposed (lane k of `across[c]` is component c of
+    /// The normal and the tangents, transposed (lane k of `across[c]` is component c of
     /// direction k), to take the speeds along all three at once.
     pub(super) across: [F32x4; 3],
     /// Where the impulses act on body a.
     pub(super) a: Side,
     /// Where the impulses act on body b.
     pub(super) b: Side,
-    /// The normal and the tangents, each as a vector: the impulses' directions.
-    pub(super) directions: [F32x4; 3],
 }
+
+// Five cache lines (see the struct's comment).
+const _: () = assert!(std::mem::size_of::<PointConstraint>() == 320);
 
 impl PointConstraint {
     pub(super) fn normal(&self) -> DVec3 {
-        self.directions[0].to_vec3()
+        let [x, y, z] = self.across.map(|row| f64::from(row.0[0]));
+        DVec3::new(x, y, z)
     }
 
     /// The relative speeds of b's material point over a's along the normal and both
@@ -101,7 +106,7 @@ impl PointConstraint {
     /// The impulse Σ λ d of impulses λ along the three directions.
     #[inline(always)]
     pub(super) fn along_directions<L: Lanes>(&self, l: L, lambda: [f64; 3]) -> L::Vector {
-        let [n, t1, t2] = load3_narrow(l, &self.directions);
+        let [n, t1, t2] = l.load_narrow_columns(&self.across);
         n * lambda[0] + t1 * lambda[1] + t2 * lambda[2]
     }
 
@@ -115,7 +120,7 @@ impl PointConstraint {
 
     /// A normal impulse only.
     pub(super) fn apply_normal<L: Lanes>(&self, l: L, bodies: &SharedBodies, lambda: f64) {
-        let [to_a, to_b] = self.on_each_body(l, l.load_narrow(self.directions[0]) * lambda);
+        let [to_a, to_b] = self.on_each_body(l, l.load_narrow_columns(&self.across)[0] * lambda);
         bodies.add(l, to_a);
         bodies.add(l, to_b);
     }
@@ -168,14 +173,53 @@ pub(super) struct Side {
     /// symmetric): one product with the momentum instead of deriving ω and crossing it with r,
     /// which made the longest chain of dependent operations in a pass longer.
     pub(super) spins: [F32x4; 3],
-    /// The point whose motion the separation follows as the bodies move in this step, in
-    /// body axes, or for a body that does not move, in world axes. The contact point itself
-    /// (the lever arm), except on a round surface, where it is the centre of the rounding
-    /// (`Shape::round_core`): a ball rolling on a floor turns its material contact point up
-    /// and away within the step, which read as the ball lifting off, so it sank far deeper
-    /// than the contact spring's deflection, and the sunk lever arm made it roll slow
-    /// (BENCHMARKS.md, "Rolling anchor").
-    pub(super) anchor: F64x4,
+}
+
+/// For each side of a prepared contact point, the point whose motion the separation follows
+/// as the bodies move in this step: in body axes, or for a body that does not move, in world
+/// axes. The contact point itself (the lever arm), except on a round surface, where it is
+/// the centre of the rounding (`Shape::round_core`): a ball rolling on a floor turns its
+/// material contact point up and away within the step, which read as the ball lifting off,
+/// so it sank far deeper than the contact spring's deflection, and the sunk lever arm made
+/// it roll slow (BENCHMARKS.md, "Rolling anchor").
+///
+/// Only the relax pass reads these, so they are kept in a list of their own, in the
+/// constraints' order, out of the records that every pass streams (BENCHMARKS.md, "Contact
+/// anchors apart").
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct PointAnchors {
+    pub(super) a: F64x4,
+    pub(super) b: F64x4,
+}
+
+impl PointAnchors {
+    /// The separation of `c` at the bodies' current poses: its anchors carried along by the
+    /// bodies' motion in this step.
+    #[inline(always)]
+    pub(super) fn separation<L: Lanes>(
+        &self,
+        l: L,
+        bodies: &SharedBodies,
+        c: &PointConstraint,
+    ) -> f64 {
+        let [slot_a, slot_b] = c.slots;
+        let (anchor_a, anchor_b) = (
+            anchor_in_world(l, self.a, bodies, slot_a),
+            anchor_in_world(l, self.b, bodies, slot_b),
+        );
+        (anchor_b - anchor_a).dot3(c.normal()) + c.separation_offset
+    }
+}
+
+/// An anchor (`PointAnchors`) in world coordinates at the body's current pose.
+#[inline(always)]
+fn anchor_in_world<L: Lanes>(l: L, anchor: F64x4, bodies: &SharedBodies, slot: u32) -> L::Vector {
+    if !moves(slot) {
+        return l.load(anchor); // without reading the slot: this runs every relax pass
+    }
+    let body = bodies.get(slot);
+    let [x, y, z] = load3(l, &body.orientation);
+    l.load(body.position) + (x * anchor.lane(0) + y * anchor.lane(1) + z * anchor.lane(2))
 }
 
 /// What a side's impulses do while a contact is prepared: for the normal and the two
@@ -284,8 +328,13 @@ impl<V: LaneVector> SideGeometry<V> {
                 self.spins[1].store(),
                 self.spins[2].store(),
             ]),
-            anchor: F64x4::from_vec3(self.anchor),
         }
+    }
+
+    /// The anchor as `PointAnchors` stores it.
+    #[inline(always)]
+    pub(super) fn stored_anchor(&self) -> F64x4 {
+        F64x4::from_vec3(self.anchor)
     }
 }
 
@@ -297,22 +346,6 @@ impl Side {
         let a = body.angular_momentum;
         let [x, y, z] = load3_narrow(l, &self.spins);
         x * a.lane(0) + y * a.lane(1) + z * a.lane(2)
-    }
-
-    #[inline(always)]
-    pub(super) fn anchor_in_world<L: Lanes>(
-        &self,
-        l: L,
-        bodies: &SharedBodies,
-        slot: u32,
-    ) -> L::Vector {
-        if !moves(slot) {
-            return l.load(self.anchor); // without reading the slot: this runs every pass
-        }
-        let body = bodies.get(slot);
-        let [x, y, z] = load3(l, &body.orientation);
-        let anchor = self.anchor;
-        l.load(body.position) + (x * anchor.lane(0) + y * anchor.lane(1) + z * anchor.lane(2))
     }
 }
 

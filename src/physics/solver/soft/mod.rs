@@ -51,7 +51,7 @@ use crate::physics::solver::lanes::Avx2;
 use crate::physics::solver::lanes::{Lanes, Portable};
 use crate::physics::solver::solver_bodies::{SolverBodies, SpinGuard};
 use crate::physics::stage_times::timed;
-use constraint::PointConstraint;
+use constraint::{PointAnchors, PointConstraint};
 use prepare::SlotMotion;
 use solve::Pass;
 pub(crate) use solve::Softness;
@@ -155,6 +155,8 @@ pub struct SoftStep {
 pub struct SoftScratch {
     /// In colour order (see `contact_colors`).
     constraints: Vec<PointConstraint>,
+    /// The constraints' anchors, in the same order.
+    anchors: Vec<PointAnchors>,
     colors: ContactColors,
     user_forces: Vec<(DVec3, DVec3)>,
     /// Each slot's body's motion at step start.
@@ -229,6 +231,7 @@ fn step_inline<L: Lanes>(
     keep_user_forces(&mut scratch.user_forces, bodies, awake);
     let SoftScratch {
         constraints,
+        anchors,
         colors,
         user_forces,
         bodies: slots,
@@ -266,7 +269,7 @@ fn step_inline<L: Lanes>(
         });
         let (joint_slots, none) = (&mut slots.slots, NextSubstep::None);
         joint_solve::solve_all(joint_constraints, joint_slots, bodies, joints_biased, none);
-        solve::for_each_contact(&mut slots.slots, constraints, colors, biased, h);
+        solve::for_each_contact(&mut slots.slots, (constraints, anchors), colors, biased, h);
         slots.limit_spins(bodies, &guards.list, max_spin);
         timed(ctx.timed, &mut integrate_seconds, || {
             slots.integrate_positions(bodies, |body| {
@@ -280,7 +283,13 @@ fn step_inline<L: Lanes>(
             joints_relax,
             next,
         );
-        solve::for_each_contact(&mut slots.slots, constraints, colors, Pass::Relax, h);
+        solve::for_each_contact(
+            &mut slots.slots,
+            (constraints, anchors),
+            colors,
+            Pass::Relax,
+            h,
+        );
         slots.limit_spins(bodies, &guards.list, max_spin);
         slots.store_warm_start(bodies, substep + 1 < substeps);
     }

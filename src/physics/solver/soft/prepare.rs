@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use super::constraint::{PointConstraint, SideGeometry, inv_mass, load3, moves};
+use super::constraint::{PointAnchors, PointConstraint, SideGeometry, inv_mass, load3, moves};
 use super::{ContactInput, SoftScratch, StepContext};
 use crate::physics::dynamics::body::RigidBody;
 use crate::physics::dynamics::forces::EnvironmentForce;
@@ -26,6 +26,7 @@ pub(super) fn prepare_contacts<L: Lanes>(
 ) {
     let SoftScratch {
         constraints,
+        anchors,
         colors,
         motions,
         bodies: slots,
@@ -39,15 +40,16 @@ pub(super) fn prepare_contacts<L: Lanes>(
     SlotMotion::gather(motions, bodies, awake, ctx.forces);
     // Written in place: collecting would build each (large) constraint aside and copy it.
     constraints.resize(colors.order.len(), PointConstraint::default());
+    anchors.resize(colors.order.len(), PointAnchors::default());
     // A manifold's points share their normal, and so their tangents: taken in contact order,
     // where they are neighbours.
     let mut basis = (DVec3::NAN, [DVec3::NAN; 2]);
     for (contact, &position) in contacts.iter().zip(&colors.position_of) {
-        let constraint = &mut constraints[position as usize];
         if contact.normal != basis.0 {
             basis = (contact.normal, tangent_basis(contact.normal));
         }
-        *constraint = prepare(l, bodies, slots, contact, basis.1, motions, ctx.dt);
+        let k = position as usize;
+        (constraints[k], anchors[k]) = prepare(l, bodies, slots, contact, basis.1, motions, ctx.dt);
     }
     mark_pairs(constraints);
 }
@@ -117,7 +119,8 @@ fn velocity_at_start(body: &RigidBody, slot: u32, motions: &[SlotMotion], lever:
     }
 }
 
-/// The constraint of one contact point, whose normal has the tangents `[t1, t2]`.
+/// The constraint of one contact point, whose normal has the tangents `[t1, t2]`, and its
+/// anchors.
 #[inline(always)]
 pub(super) fn prepare<L: Lanes>(
     l: L,
@@ -127,7 +130,7 @@ pub(super) fn prepare<L: Lanes>(
     [t1, t2]: [DVec3; 2],
     motions: &[SlotMotion],
     dt: f64,
-) -> PointConstraint {
+) -> (PointConstraint, PointAnchors) {
     let (a, b) = (&bodies[contact.a], &bodies[contact.b]);
     // The passes read the directions and levers as f32 (`PointConstraint`): everything here
     // is worked out from those same values, so that the passes solve the constraint prepared.
@@ -153,13 +156,16 @@ pub(super) fn prepare<L: Lanes>(
     );
     let inv_masses = inv_mass(a, slot_a) + inv_mass(b, slot_b);
     let [normal_mass, tangent_1, tangent_2] = effective_masses(l, &side_a, &side_b, inv_masses);
-    PointConstraint {
+    let anchors = PointAnchors {
+        a: side_a.stored_anchor(),
+        b: side_b.stored_anchor(),
+    };
+    let constraint = PointConstraint {
         pairs_with_next: false,
         separation: normal.dot(anchor_b - anchor_a) + separation_offset,
         normal_to_tangent: normal_to_tangent(l, &side_a, &side_b, inv_masses, &across),
         a: side_a.into_lanes(),
         b: side_b.into_lanes(),
-        directions: F32x4::narrowed3(F64x4::from_vec3s(directions)),
         across: F32x4::narrowed3(across),
         slots: [slot_a, slot_b],
         separation_offset,
@@ -172,7 +178,8 @@ pub(super) fn prepare<L: Lanes>(
         approach_acceleration,
         friction: (a.material.friction * b.material.friction).sqrt(),
         restitution: a.material.restitution.min(b.material.restitution),
-    }
+    };
+    (constraint, anchors)
 }
 
 /// The mass an impulse along each direction meets: the inverse of the report's denominator

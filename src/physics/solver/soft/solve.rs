@@ -4,12 +4,12 @@
 use rayon::prelude::*;
 
 use super::SoftSolverSettings;
-use super::constraint::PointConstraint;
+use super::constraint::{PointAnchors, PointConstraint};
 use crate::physics::solver::contact_colors::ContactColors;
 use crate::physics::solver::impulse::clamp_to_friction_disc;
 #[cfg(target_arch = "x86_64")]
 use crate::physics::solver::lanes::Avx2;
-use crate::physics::solver::lanes::{LaneVector, Lanes, Portable};
+use crate::physics::solver::lanes::{Lanes, Portable};
 use crate::physics::solver::solver_bodies::{SharedBodies, SolverBody};
 
 /// The stiffest contact spring a substep of length h can carry is this many times 1/h:
@@ -94,10 +94,11 @@ pub(super) enum Pass {
 
 /// Runs `pass` on every contact, colour by colour (see `contact_colors`). A colour large
 /// enough is spread over the threads, a manifold per task; the result is the same to the
-/// last bit, as its manifolds share no moving body.
+/// last bit, as its manifolds share no moving body. `anchors` are the constraints' anchors,
+/// in the same order.
 pub(super) fn for_each_contact(
     bodies: &mut [SolverBody],
-    constraints: &mut [PointConstraint],
+    (constraints, anchors): (&mut [PointConstraint], &[PointAnchors]),
     colors: &ContactColors,
     pass: Pass,
     h: f64,
@@ -107,13 +108,21 @@ pub(super) fn for_each_contact(
     let shared = unsafe { SharedBodies::new(bodies) };
     let threads = rayon::current_num_threads();
     for (range, parallel) in colors.ranges() {
+        let color_anchors = &anchors[range.clone()];
         let color = &mut constraints[range];
         if parallel && threads > 1 && color.len() >= PARALLEL_MIN_CONTACTS {
+            let start = color.as_ptr() as usize;
             color
                 .par_chunk_by_mut(PointConstraint::same_bodies)
-                .for_each(|manifold| run_pass(pass, &shared, manifold, h));
+                .for_each(|manifold| {
+                    // The manifold's place in its colour, to find its anchors.
+                    let offset = manifold.as_ptr() as usize - start;
+                    let first = offset / std::mem::size_of::<PointConstraint>();
+                    let anchors = &color_anchors[first..first + manifold.len()];
+                    run_pass(pass, &shared, (manifold, anchors), h)
+                });
         } else {
-            run_pass(pass, &shared, color, h);
+            run_pass(pass, &shared, (color, color_anchors), h);
         }
     }
 }
@@ -121,7 +130,7 @@ pub(super) fn for_each_contact(
 /// `pass` on these contacts in order, with the lanes (see `lanes`) packed four to an
 /// instruction where the processor has AVX2, and as the compiler packs them otherwise. Both
 /// compute the same bits.
-fn run_pass(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint], h: f64) {
+fn run_pass(pass: Pass, bodies: &SharedBodies, contacts: Contacts, h: f64) {
     #[cfg(target_arch = "x86_64")]
     if let Some(avx) = Avx2::detect() {
         // SAFETY: the processor has AVX2, as `avx` proves.
@@ -130,13 +139,16 @@ fn run_pass(pass: Pass, bodies: &SharedBodies, contacts: &mut [PointConstraint],
     run_pass_inline(Portable, pass, bodies, contacts, h);
 }
 
+/// Contact points and their anchors, in the same order.
+pub(super) type Contacts<'a> = (&'a mut [PointConstraint], &'a [PointAnchors]);
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 pub(super) fn run_pass_avx2(
     avx: Avx2,
     pass: Pass,
     bodies: &SharedBodies,
-    contacts: &mut [PointConstraint],
+    contacts: Contacts,
     h: f64,
 ) {
     run_pass_inline(avx, pass, bodies, contacts, h);
@@ -148,7 +160,7 @@ pub(super) fn run_pass_inline<L: Lanes>(
     l: L,
     pass: Pass,
     bodies: &SharedBodies,
-    contacts: &mut [PointConstraint],
+    (contacts, anchors): Contacts,
     h: f64,
 ) {
     // Plain loops: an iterator adaptor's closure may be left out of line, and would then be
@@ -165,12 +177,12 @@ pub(super) fn run_pass_inline<L: Lanes>(
     while k < contacts.len() {
         let paired = contacts[k].pairs_with_next && k + 1 < contacts.len();
         let group = &mut contacts[k..k + 1 + paired as usize];
-        k += group.len();
         if relax {
-            for c in group.iter_mut() {
-                c.separation = current_separation(l, bodies, c);
+            for (c, anchors) in group.iter_mut().zip(&anchors[k..]) {
+                c.separation = anchors.separation(l, bodies, c);
             }
         }
+        k += group.len();
         match group {
             [first, second] => solve_two(l, bodies, [first, second], h, bias),
             [only] => solve(l, bodies, only, h, bias),
@@ -196,17 +208,6 @@ fn solve_two<L: Lanes>(
     let friction_y = solve_friction(y, tangent_speeds(y, speeds_y, normal_y));
     x.apply(l, bodies, [normal_x, friction_x[0], friction_x[1]]);
     y.apply(l, bodies, [normal_y, friction_y[0], friction_y[1]]);
-}
-
-/// Current separation: the anchors carried along by the bodies' motion in this step.
-#[inline(always)]
-fn current_separation<L: Lanes>(l: L, bodies: &SharedBodies, c: &PointConstraint) -> f64 {
-    let [slot_a, slot_b] = c.slots;
-    let (anchor_a, anchor_b) = (
-        c.a.anchor_in_world(l, bodies, slot_a),
-        c.b.anchor_in_world(l, bodies, slot_b),
-    );
-    (anchor_b - anchor_a).dot3(c.normal()) + c.separation_offset
 }
 
 /// One contact's share of a pass: normal (soft or rigid) then friction, applied together.

@@ -1,6 +1,6 @@
 use glam::{DQuat, DVec3};
 
-use super::constraint::PointConstraint;
+use super::constraint::{PointAnchors, PointConstraint};
 use super::prepare::{SlotMotion, mark_pairs, prepare};
 #[cfg(target_arch = "x86_64")]
 use super::solve::run_pass_avx2;
@@ -25,13 +25,22 @@ fn one_thread(slots: &mut SolverBodies) -> SharedBodies<'_> {
     unsafe { SharedBodies::new(&mut slots.slots) }
 }
 
+/// A scene's bodies, their slots, and its contacts prepared: the constraints and their
+/// anchors.
+type Scene = (
+    Vec<RigidBody>,
+    SolverBodies,
+    Vec<PointConstraint>,
+    Vec<PointAnchors>,
+);
+
 /// Two turning, moving boxes on a fixed one, with contacts at skew points and
 /// remembered impulses, prepared as a step would.
-fn scene() -> (Vec<RigidBody>, SolverBodies, Vec<PointConstraint>) {
+fn scene() -> Scene {
     scene_prepared_with(Portable)
 }
 
-fn scene_prepared_with<L: Lanes>(l: L) -> (Vec<RigidBody>, SolverBodies, Vec<PointConstraint>) {
+fn scene_prepared_with<L: Lanes>(l: L) -> Scene {
     let cuboid = |h: f64| Shape::cuboid(DVec3::new(h, 0.7 * h, 1.3 * h));
     let descs = [
         BodyDesc::fixed(cuboid(5.0)).at(DVec3::new(0.0, -3.5, 0.0)),
@@ -71,7 +80,7 @@ fn scene_prepared_with<L: Lanes>(l: L) -> (Vec<RigidBody>, SolverBodies, Vec<Poi
     ];
     let mut motions = Vec::new();
     SlotMotion::gather(&mut motions, &bodies, &[1, 2], &[]);
-    let mut constraints = (contacts.iter())
+    let (mut constraints, anchors): (Vec<_>, Vec<_>) = (contacts.iter())
         .map(|c| {
             prepare(
                 l,
@@ -83,17 +92,17 @@ fn scene_prepared_with<L: Lanes>(l: L) -> (Vec<RigidBody>, SolverBodies, Vec<Poi
                 1.0 / 60.0,
             )
         })
-        .collect::<Vec<_>>();
+        .unzip();
     mark_pairs(&mut constraints);
     assert!(constraints[0].pairs_with_next && !constraints[2].pairs_with_next);
-    (bodies, slots, constraints)
+    (bodies, slots, constraints, anchors)
 }
 
 /// The warm start gathered from the change in momenta is what adding up every contact's
 /// final impulse gives (the sum the relax pass used to build contact by contact).
 #[test]
 fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
-    let (mut bodies, mut slots, mut constraints) = scene();
+    let (mut bodies, mut slots, mut constraints, anchors) = scene();
     let h = 1.0 / 480.0;
     let shared = one_thread(&mut slots);
     for c in &constraints {
@@ -105,7 +114,8 @@ fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
         max_push_out: 3.0,
     };
     for pass in [biased, Pass::Relax] {
-        run_pass_inline(Portable, pass, &one_thread(&mut slots), &mut constraints, h);
+        let contacts = (&mut constraints[..], &anchors[..]);
+        run_pass_inline(Portable, pass, &one_thread(&mut slots), contacts, h);
     }
     slots.store_warm_start(&mut bodies, true);
     let mut summed = slots.clone();
@@ -138,12 +148,16 @@ fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
 fn packed_and_unpacked_preparation_compute_the_same_bits() {
     #[cfg(target_arch = "x86_64")]
     if let Some(avx) = Avx2::detect() {
-        let (_, _, portable) = scene();
-        let (_, _, packed) = scene_prepared_with(avx);
+        let (_, _, portable, portable_anchors) = scene();
+        let (_, _, packed, packed_anchors) = scene_prepared_with(avx);
         for (x, y) in portable.iter().zip(&packed) {
             // Debug prints each number exactly (shortest round trip), signed zeros too.
             assert_eq!(format!("{x:?}"), format!("{y:?}"));
         }
+        assert_eq!(
+            format!("{portable_anchors:?}"),
+            format!("{packed_anchors:?}")
+        );
     }
 }
 
@@ -159,19 +173,15 @@ fn packed_and_unpacked_passes_compute_the_same_bits() {
             },
             Pass::Relax,
         ];
-        let (_, mut slots_inline, mut inline) = scene();
-        let (_, mut slots_packed, mut packed) = scene();
+        let (_, mut slots_inline, mut inline, anchors) = scene();
+        let (_, mut slots_packed, mut packed, _) = scene();
         for pass in passes {
             let h = 1.0 / 480.0;
-            run_pass_inline(
-                Portable,
-                pass,
-                &one_thread(&mut slots_inline),
-                &mut inline,
-                h,
-            );
+            let contacts = (&mut inline[..], &anchors[..]);
+            run_pass_inline(Portable, pass, &one_thread(&mut slots_inline), contacts, h);
+            let contacts = (&mut packed[..], &anchors[..]);
             // SAFETY: the processor has AVX2, as `avx` proves.
-            unsafe { run_pass_avx2(avx, pass, &one_thread(&mut slots_packed), &mut packed, h) };
+            unsafe { run_pass_avx2(avx, pass, &one_thread(&mut slots_packed), contacts, h) };
         }
         for (x, y) in slots_inline.slots.iter().zip(&slots_packed.slots) {
             assert_eq!(x.linear_momentum, y.linear_momentum);
@@ -181,7 +191,7 @@ fn packed_and_unpacked_passes_compute_the_same_bits() {
             assert_eq!((x.impulse, x.separation), (y.impulse, y.separation));
         }
         // The passes did something: the momenta moved from where the bodies had them.
-        let (bodies, _, _) = scene();
+        let (bodies, _, _, _) = scene();
         assert_ne!(
             slots_inline.slots[1].linear_momentum.to_vec3(),
             bodies[1].linear_momentum
