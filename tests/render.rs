@@ -122,12 +122,13 @@ fn bounce_stack_spin_and_rain_match_goldens() {
 }
 
 /// The scenes of joints and kinematic bodies: the cradle's pulled ball, the chain with its
-/// paddle, which only moves if the simulation drives its script, and the rope bridge's
-/// sagging deck with its hinges drawn.
+/// paddle, which only moves if the simulation drives its script, the rope bridge's
+/// sagging deck with its hinges drawn, the car on its wheels' hinges before its hill, and
+/// the door with the ball thrown at it.
 #[test]
 fn joint_scenes_match_goldens() {
     let gpu = gpu();
-    for scene in ["cradle_strings", "chain", "rope_bridge"] {
+    for scene in ["cradle_strings", "chain", "rope_bridge", "car", "door"] {
         check_scene_golden(&gpu, scene);
     }
 }

@@ -547,6 +547,8 @@ fn the_built_in_joint_scenes_hold_their_joints_and_run() {
         ("cradle_strings", 10, 0),
         ("chain", 20, 1),
         ("rope_bridge", 15, 0),
+        ("car", 4, 0),
+        ("door", 1, 0),
     ];
     for (name, joints, kinematic) in scenes {
         let scene = scene::find_builtin(name).unwrap().parse().unwrap();
@@ -587,6 +589,77 @@ fn the_rope_bridge_catches_its_crates() {
             "{name} off the deck at {p}"
         );
     }
+}
+
+/// The car drives over its hill. On the flat, its motors (10 rad/s on wheels of 0.3 m)
+/// roll it at ω r = 3 m/s: within 1 % at 1.5 s, 1 s after it reached that speed. It climbs
+/// the 0.8 m hill, its chassis rising by more than 0.7 m, tilts no further than 25° (the
+/// slopes are 15°), and is past the hill's far foot (x = 10) within 6 s.
+#[test]
+fn the_car_drives_over_its_hill() {
+    let scene = scene::find_builtin("car").unwrap().parse().unwrap();
+    let mut world = scene.build_world().unwrap();
+    let chassis = world
+        .bodies()
+        .iter()
+        .position(|b| b.name == "chassis")
+        .unwrap();
+    let dt = scene.settings.dt;
+    let start_height = world.bodies()[chassis].position.y;
+    let (mut highest, mut steepest, mut past_hill) = (start_height, 0.0f64, None);
+    for step in 1..=(6.0 / dt).round() as usize {
+        world.step(dt);
+        let body = &world.bodies()[chassis];
+        if step == (1.5 / dt).round() as usize {
+            let speed = body.velocity().x;
+            assert!((speed - 3.0).abs() < 0.03, "speed on the flat {speed} m/s");
+        }
+        highest = highest.max(body.position.y);
+        steepest = steepest.max((body.orientation * DVec3::Y).angle_between(DVec3::Y));
+        if past_hill.is_none() && body.position.x > 10.0 {
+            past_hill = Some(world.time());
+        }
+    }
+    let rise = highest - start_height;
+    assert!(rise > 0.7, "the chassis rose {rise} m");
+    assert!(
+        steepest.to_degrees() < 25.0,
+        "tilted {}°",
+        steepest.to_degrees()
+    );
+    assert!(past_hill.is_some(), "not past the hill after 6 s");
+}
+
+/// The door's hinge holds its limits: the thrown ball knocks the door open to its 100° stop
+/// (past 95°) and no further than 1° beyond it, nor ever more than 1° behind its shut
+/// position, 0°; the ball goes through, and the closer (a servo toward 0°) has the door
+/// back within 5° of shut after 4 s.
+#[test]
+fn the_door_swings_within_its_limits() {
+    let scene = scene::find_builtin("door").unwrap().parse().unwrap();
+    let mut world = scene.build_world().unwrap();
+    let ball = world
+        .bodies()
+        .iter()
+        .position(|b| b.name == "ball")
+        .unwrap();
+    let dt = scene.settings.dt;
+    let angle = |world: &World| world.joints().next().unwrap().1.angle.to_degrees();
+    let (mut widest, mut narrowest) = (0.0f64, 0.0f64);
+    for _ in 0..(4.0 / dt).round() as usize {
+        world.step(dt);
+        widest = widest.max(angle(&world));
+        narrowest = narrowest.min(angle(&world));
+    }
+    assert!(widest > 95.0 && widest < 101.0, "opened to {widest}°");
+    assert!(narrowest > -1.0, "swung to {narrowest}°");
+    let ball_z = world.bodies()[ball].position.z;
+    assert!(ball_z < -1.0, "the ball is at z = {ball_z} m");
+    assert!(
+        angle(&world) < 5.0,
+        "still open {}° after 4 s",
+        angle(&world)
+    );
 }
 
 /// How far a joint's anchors are from where it holds them: coinciding (ball), or its length

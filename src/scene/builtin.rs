@@ -41,6 +41,8 @@ const BUILTIN_SCENES: &[BuiltinScene] = builtin![
     "cradle_strings",
     "chain",
     "rope_bridge",
+    "car",
+    "door",
 ];
 
 /// Every built-in scene, in menu order.
