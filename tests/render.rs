@@ -123,12 +123,20 @@ fn bounce_stack_spin_and_rain_match_goldens() {
 
 /// The scenes of joints and kinematic bodies: the cradle's pulled ball, the chain with its
 /// paddle, which only moves if the simulation drives its script, the rope bridge's
-/// sagging deck with its hinges drawn, the car on its wheels' hinges before its hill, and
-/// the door with the ball thrown at it.
+/// sagging deck with its hinges drawn, the car on its wheels' hinges before its hill, the
+/// door with the ball thrown at it, and the ragdolls falling.
 #[test]
 fn joint_scenes_match_goldens() {
     let gpu = gpu();
-    for scene in ["cradle_strings", "chain", "rope_bridge", "car", "door"] {
+    let scenes = [
+        "cradle_strings",
+        "chain",
+        "rope_bridge",
+        "car",
+        "door",
+        "ragdolls",
+    ];
+    for scene in scenes {
         check_scene_golden(&gpu, scene);
     }
 }

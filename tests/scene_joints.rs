@@ -549,6 +549,7 @@ fn the_built_in_joint_scenes_hold_their_joints_and_run() {
         ("rope_bridge", 15, 0),
         ("car", 4, 0),
         ("door", 1, 0),
+        ("ragdolls", 80, 0),
     ];
     for (name, joints, kinematic) in scenes {
         let scene = scene::find_builtin(name).unwrap().parse().unwrap();
@@ -660,6 +661,56 @@ fn the_door_swings_within_its_limits() {
         "still open {}° after 4 s",
         angle(&world)
     );
+}
+
+/// The ragdolls' limbs bend only within their limits while they fall into a pile: over 6 s,
+/// no elbow or knee hinge leaves its 0–140° by more than 3°, and no cone-twist joint swings
+/// past its cone by more than 3°; at the end every part rests above the floor.
+#[test]
+fn the_ragdolls_bend_within_their_limits() {
+    let scene = scene::find_builtin("ragdolls").unwrap().parse().unwrap();
+    let mut world = scene.build_world().unwrap();
+    let dt = scene.settings.dt;
+    let (mut past_hinge, mut past_cone) = (0.0f64, 0.0f64);
+    for _ in 0..(6.0 / dt).round() as usize {
+        world.step(dt);
+        for (_, joint) in world.joints() {
+            match joint.kind {
+                JointKind::Hinge => {
+                    let (lo, hi) = joint.limits.unwrap();
+                    past_hinge = past_hinge.max(lo - joint.angle).max(joint.angle - hi);
+                }
+                JointKind::ConeTwist => {
+                    let swing = swing(&world, joint);
+                    past_cone = past_cone.max(swing - joint.cone);
+                }
+                _ => unreachable!("the ragdolls have hinges and cone-twists only"),
+            }
+        }
+    }
+    assert!(
+        past_hinge.to_degrees() < 3.0,
+        "a hinge {}° past its limit",
+        past_hinge.to_degrees()
+    );
+    assert!(
+        past_cone.to_degrees() < 3.0,
+        "a cone {}° past its limit",
+        past_cone.to_degrees()
+    );
+    assert!(world.faults().is_empty(), "{:?}", world.faults());
+    for body in world.bodies().iter().filter(|b| b.is_dynamic()) {
+        assert!(body.position.y > 0.0, "{} at {}", body.name, body.position);
+    }
+}
+
+/// The angle between a cone-twist joint's two axes, each carried by its body.
+fn swing(world: &World, joint: &rigid::physics::Joint) -> f64 {
+    let a = &world.bodies()[joint.body_a.index()];
+    let b = &world.bodies()[joint.body_b.index()];
+    let axis_a = a.orientation * joint.local_axis_a;
+    let axis_b = b.orientation * joint.local_axis_b;
+    axis_a.angle_between(axis_b)
 }
 
 /// How far a joint's anchors are from where it holds them: coinciding (ball), or its length

@@ -43,6 +43,7 @@ const BUILTIN_SCENES: &[BuiltinScene] = builtin![
     "rope_bridge",
     "car",
     "door",
+    "ragdolls",
 ];
 
 /// Every built-in scene, in menu order.
