@@ -44,7 +44,7 @@ pub use geometry::hull::{
 pub use geometry::mass::MassProperties;
 pub use geometry::shape::{Pose, Shape, ShapeError};
 pub use joints::{
-    Breaking, Joint, JointDesc, JointError, JointId, JointKind, Motor, Servo, Spring,
+    Breaking, Joint, JointDesc, JointDrives, JointError, JointId, JointKind, Motor, Servo, Spring,
 };
 pub use query::{CastHit, QueryError, ray_cast, shape_cast};
 pub use snapshot::{SnapshotError, WorldSnapshot};

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::physics::{BroadPhaseKind, EnvironmentForce, Integrator, Pipeline};
+use crate::physics::{BroadPhaseKind, EnvironmentForce, Integrator, JointDrives, Pipeline};
 
 /// The primitive a spawn button creates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -115,6 +115,14 @@ pub enum Command {
         /// Index into the snapshot's bodies.
         body: usize,
     },
+    /// Changes the motor, servo and spring of joint `joint` (index into the world's joints,
+    /// as `JointId`); refused, with a message, where `World::set_joint_drives` refuses.
+    SetJointDrives {
+        /// Index into the world's joints.
+        joint: u32,
+        /// What drives it from now on.
+        drives: JointDrives,
+    },
     /// Writes the world, with the scene name and hidden bodies, to a file (see `SavedWorld`).
     SaveWorld(PathBuf),
     /// Replaces the world by one saved with `SaveWorld`.
@@ -151,6 +159,7 @@ impl Command {
             Command::Spawn { .. } => "Spawn",
             Command::ApplyImpulse { .. } => "ApplyImpulse",
             Command::RemoveBody { .. } => "RemoveBody",
+            Command::SetJointDrives { .. } => "SetJointDrives",
             Command::SaveWorld(_) => "SaveWorld",
             Command::LoadWorld(_) => "LoadWorld",
             Command::SaveRecording(_) => "SaveRecording",

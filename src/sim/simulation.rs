@@ -11,8 +11,8 @@ use glam::{DVec3, Vec3};
 
 use crate::physics::collision::broad_phase::UniformGrid;
 use crate::physics::{
-    Aabb, BroadPhaseKind, EnvironmentForce, Fault, JointKind, Material, Motion, RemoveError,
-    RigidBody, World,
+    Aabb, BodyId, BroadPhaseKind, EnvironmentForce, Fault, JointId, JointKind, Material, Motion,
+    RemoveError, RigidBody, World,
 };
 use crate::scene::{self, ScriptedMotion};
 use crate::sim::command::{Command, DT_RANGE, SpawnKind};
@@ -20,8 +20,8 @@ use crate::sim::recording::{FileCommands, RecordedCommand, Recording, RecordingE
 use crate::sim::saved_world::SavedWorld;
 use crate::sim::scenes::{self, CameraHint};
 use crate::sim::snapshot::{
-    BodyPose, BodyState, Counters, HistorySample, JointSketch, LineSegment, MAX_FAULTS_SHOWN,
-    MaterialSummary, ShapeTable, SimSettings, Snapshot,
+    BodyPose, BodyState, Counters, DrivenJoint, HistorySample, JointSketch, LineSegment,
+    MAX_FAULTS_SHOWN, MaterialSummary, ShapeTable, SimSettings, Snapshot,
 };
 
 use crate::sim::{spawn, world_bounds};
@@ -265,6 +265,10 @@ impl Simulation {
                 };
                 self.message = removed.err().map(|e| e.to_string());
             }
+            Command::SetJointDrives { joint, drives } => {
+                let set = self.world.set_joint_drives(JointId(joint), drives);
+                self.message = set.err().map(|e| format!("joint {joint}: {e}"));
+            }
             Command::SaveWorld(path) => self.save_world(&path),
             Command::LoadWorld(path) => self.load_world(&path),
             Command::SaveRecording(path) => {
@@ -357,6 +361,7 @@ impl Simulation {
             joints: joint_sketches(&self.world),
             counters: self.counters(),
             materials: self.material_summaries(),
+            driven_joints: driven_joints(&self.world),
             history: self.history.iter().copied().collect(),
             settings: self.settings,
             message: self.message.clone(),
@@ -758,6 +763,27 @@ fn broad_phase_cells(world: &World) -> Vec<(Vec3, Vec3)> {
         .collect()
 }
 
+/// The joints with a motor, servo or spring, for the panel to change live.
+fn driven_joints(world: &World) -> Vec<DrivenJoint> {
+    let bodies = world.bodies();
+    let driven = world.joints().filter(|(_, joint)| {
+        let drives = joint.drives();
+        drives.motor.is_some() || drives.servo.is_some() || drives.spring.is_some()
+    });
+    driven
+        .map(|(id, joint)| {
+            let name = |id: BodyId| bodies[id.index()].name.as_str();
+            let kind = format!("{:?}", joint.kind).to_lowercase();
+            let (a, b) = (name(joint.body_a), name(joint.body_b));
+            DrivenJoint {
+                joint: id.0,
+                label: format!("{kind} {a} – {b}"),
+                drives: joint.drives(),
+            }
+        })
+        .collect()
+}
+
 /// Each joint where the viewer draws it (see `JointSketch`).
 fn joint_sketches(world: &World) -> Vec<JointSketch> {
     let bodies = world.bodies();
@@ -936,6 +962,40 @@ mod tests {
         });
         let shown = sim.snapshot(Instant::now()).materials;
         assert_eq!((shown[2].name.as_str(), shown[2].bodies), ("spawned", 1));
+    }
+
+    /// The car's four wheel motors are listed for the panel; a new speed takes over (the
+    /// car then rolls at ω r with the wheels' 0.3 m radius), and a refused one leaves the
+    /// motor as it was and says why.
+    #[test]
+    fn the_panel_changes_the_car_motors_live() {
+        let mut sim = Simulation::new("car").unwrap();
+        let driven = sim.snapshot(Instant::now()).driven_joints;
+        let labels: Vec<&str> = driven.iter().map(|d| d.label.as_str()).collect();
+        assert_eq!(labels[0], "hinge chassis – wheel_0");
+        assert_eq!(labels.len(), 4);
+        for driven in &driven {
+            let mut drives = driven.drives;
+            drives.motor.as_mut().unwrap().speed = -5.0;
+            let joint = driven.joint;
+            sim.apply(Command::SetJointDrives { joint, drives });
+        }
+        while sim.world().time() < 2.0 {
+            sim.step();
+        }
+        let chassis = sim.world().bodies().iter().find(|b| b.name == "chassis");
+        let speed = chassis.unwrap().velocity().x;
+        assert!(
+            (speed - 1.5).abs() < 0.015,
+            "{speed} m/s against 5 rad/s × 0.3 m"
+        );
+        let mut drives = driven[0].drives;
+        drives.motor.as_mut().unwrap().speed = f64::NAN;
+        sim.apply(Command::SetJointDrives { joint: 0, drives });
+        let shown = sim.snapshot(Instant::now());
+        assert_eq!(shown.driven_joints[0].drives.motor.unwrap().speed, -5.0);
+        let message = shown.message.unwrap();
+        assert_eq!(message, "joint 0: motor.speed must be finite");
     }
 
     fn sim_scene_material(scene: &str, body: usize) -> Material {

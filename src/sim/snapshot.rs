@@ -6,7 +6,7 @@ use web_time::Instant;
 
 use glam::{Quat, Vec3};
 
-use crate::physics::{BroadPhaseKind, Fault, Integrator, Pipeline, Shape, StageTimes};
+use crate::physics::{BroadPhaseKind, Fault, Integrator, JointDrives, Pipeline, Shape, StageTimes};
 use crate::sim::scenes::CameraHint;
 
 /// Most faults a snapshot carries: the panel lists the newest, and a run that keeps
@@ -165,6 +165,17 @@ pub struct MaterialSummary {
     pub bodies: usize,
 }
 
+/// A joint with a motor, servo or spring, as the panel shows it to be changed live.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DrivenJoint {
+    /// Its index in the world's joints (`Command::SetJointDrives`).
+    pub joint: u32,
+    /// Its kind and its bodies' names, e.g. "hinge chassis – wheel_0".
+    pub label: String,
+    /// What drives it now.
+    pub drives: JointDrives,
+}
+
 /// The settings in force, so the UI shows what the simulation really uses.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SimSettings {
@@ -220,6 +231,8 @@ pub struct Snapshot {
     pub counters: Counters,
     /// The materials by name, in the order their first body appears.
     pub materials: Vec<MaterialSummary>,
+    /// The joints with a motor, servo or spring, in joint order.
+    pub driven_joints: Vec<DrivenJoint>,
     /// Oldest first: a sample every 1/30 s of simulated time, the last 600 (20 s).
     pub history: Vec<HistorySample>,
     /// The settings in force.

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::physics::{BroadPhaseKind, Integrator, Pipeline, StageTimes};
+use crate::physics::{BroadPhaseKind, Integrator, JointDrives, Pipeline, StageTimes};
 use crate::render::Overlays;
 use crate::sim::{Command, Snapshot, SpawnKind, scene_names};
 use crate::ui::plots;
@@ -115,6 +115,7 @@ impl Panel {
             ui.separator();
             self.world_section(ui, &mut requests.commands);
             materials_section(ui, snapshot, &mut requests.commands);
+            joints_section(ui, snapshot, &mut requests.commands);
             ui.separator();
             self.overlay_section(ui);
             ui.separator();
@@ -378,6 +379,52 @@ fn materials_section(ui: &mut egui::Ui, snapshot: &Snapshot, out: &mut Vec<Comma
                 }
             }
         });
+}
+
+/// The motors, servos and springs of the scene's joints, changed live; absent from scenes
+/// without any.
+fn joints_section(ui: &mut egui::Ui, snapshot: &Snapshot, out: &mut Vec<Command>) {
+    if snapshot.driven_joints.is_empty() {
+        return;
+    }
+    egui::CollapsingHeader::new("Joint drives")
+        .default_open(true)
+        .show(ui, |ui| {
+            for driven in &snapshot.driven_joints {
+                ui.label(&driven.label);
+                let mut drives = driven.drives;
+                if drive_controls(ui, &mut drives) {
+                    out.push(Command::SetJointDrives {
+                        joint: driven.joint,
+                        drives,
+                    });
+                }
+            }
+        });
+}
+
+/// A joint's motor, servo and spring values as drag values; whether one changed.
+fn drive_controls(ui: &mut egui::Ui, drives: &mut JointDrives) -> bool {
+    let mut changed = false;
+    let mut value = |ui: &mut egui::Ui, v: &mut f64, range: (f64, f64), text: &str| {
+        let drag = egui::DragValue::new(v).speed(0.1).range(range.0..=range.1);
+        changed |= ui.add(drag.prefix(text)).changed();
+    };
+    ui.horizontal(|ui| {
+        if let Some(motor) = &mut drives.motor {
+            value(ui, &mut motor.speed, (-100.0, 100.0), "motor speed ");
+            value(ui, &mut motor.max_force, (0.0, 1e5), "max ");
+        }
+        if let Some(servo) = &mut drives.servo {
+            value(ui, &mut servo.hertz, (0.0, 60.0), "servo Hz ");
+            value(ui, &mut servo.max_force, (0.0, 1e5), "max ");
+        }
+        if let Some(spring) = &mut drives.spring {
+            value(ui, &mut spring.hertz, (0.0, 60.0), "spring Hz ");
+            value(ui, &mut spring.damping_ratio, (0.0, 10.0), "damping ");
+        }
+    });
+    changed
 }
 
 /// Bodies whose state went non-finite: the world isolated them (they no longer move, touch

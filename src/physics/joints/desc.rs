@@ -269,29 +269,7 @@ impl JointDesc {
                 return Err(JointError::Unsupported("limits"));
             }
         }
-        if let Some(motor) = self.motor {
-            check_non_negative("motor.max_force", motor.max_force)?;
-            if !motor.speed.is_finite() {
-                return Err(JointError::NotFinite("motor.speed"));
-            }
-            if !matches!(self.kind, JointKind::Hinge | JointKind::Slider) {
-                return Err(JointError::Unsupported("motor"));
-            }
-        }
-        if let Some(servo) = self.servo {
-            if !servo.target.is_finite() {
-                return Err(JointError::NotFinite("servo.target"));
-            }
-            check_non_negative("servo.hertz", servo.hertz)?;
-            check_non_negative("servo.damping_ratio", servo.damping_ratio)?;
-            check_non_negative("servo.max_force", servo.max_force)?;
-            if !matches!(self.kind, JointKind::Hinge | JointKind::Slider) {
-                return Err(JointError::Unsupported("servo"));
-            }
-            if self.motor.is_some() {
-                return Err(JointError::MotorAndServo);
-            }
-        }
+        self.drives().check(self.kind)?;
         if let Some(breaking) = self.breaking {
             for (field, value) in [
                 ("breaking.force", breaking.force),
@@ -305,14 +283,68 @@ impl JointDesc {
                 }
             }
         }
+        Ok(())
+    }
+}
+
+/// What drives a joint about or along its axis, or pulls it toward its length: the options
+/// a game or the viewer's panel changes while the world runs (`World::set_joint_drives`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct JointDrives {
+    /// As `JointDesc::motor`: hinge and slider.
+    pub motor: Option<Motor>,
+    /// As `JointDesc::servo`: hinge and slider, not with a motor.
+    pub servo: Option<Servo>,
+    /// As `JointDesc::spring`: distance joints.
+    pub spring: Option<Spring>,
+}
+
+impl JointDrives {
+    /// What `JointDesc::validate` refuses of these on a joint of this kind.
+    pub fn check(&self, kind: JointKind) -> Result<(), JointError> {
+        let axial = matches!(kind, JointKind::Hinge | JointKind::Slider);
+        if let Some(motor) = self.motor {
+            check_non_negative("motor.max_force", motor.max_force)?;
+            if !motor.speed.is_finite() {
+                return Err(JointError::NotFinite("motor.speed"));
+            }
+            if !axial {
+                return Err(JointError::Unsupported("motor"));
+            }
+        }
+        if let Some(servo) = self.servo {
+            if !servo.target.is_finite() {
+                return Err(JointError::NotFinite("servo.target"));
+            }
+            check_non_negative("servo.hertz", servo.hertz)?;
+            check_non_negative("servo.damping_ratio", servo.damping_ratio)?;
+            check_non_negative("servo.max_force", servo.max_force)?;
+            if !axial {
+                return Err(JointError::Unsupported("servo"));
+            }
+            if self.motor.is_some() {
+                return Err(JointError::MotorAndServo);
+            }
+        }
         if let Some(spring) = self.spring {
             check_non_negative("spring.hertz", spring.hertz)?;
             check_non_negative("spring.damping_ratio", spring.damping_ratio)?;
-            if self.kind != JointKind::Distance {
+            if kind != JointKind::Distance {
                 return Err(JointError::Unsupported("spring"));
             }
         }
         Ok(())
+    }
+}
+
+impl JointDesc {
+    fn drives(&self) -> JointDrives {
+        JointDrives {
+            motor: self.motor,
+            servo: self.servo,
+            spring: self.spring,
+        }
     }
 }
 

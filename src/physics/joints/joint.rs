@@ -5,7 +5,7 @@
 use glam::{DMat3, DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
-use super::desc::{Breaking, JointDesc, JointKind, Motor, Servo, Spring};
+use super::desc::{Breaking, JointDesc, JointDrives, JointKind, Motor, Servo, Spring};
 use crate::physics::dynamics::body::{BodyId, RigidBody};
 
 /// The impulses a joint's rows ended the last substep with, N·s (N·m·s for the angular ones).
@@ -136,6 +136,15 @@ impl Joint {
             impulses: JointImpulses::default(),
             reaction_force: DVec3::ZERO,
             reaction_torque: DVec3::ZERO,
+        }
+    }
+
+    /// Its motor, servo and spring (`World::set_joint_drives` changes them).
+    pub fn drives(&self) -> JointDrives {
+        JointDrives {
+            motor: self.motor,
+            servo: self.servo,
+            spring: self.spring,
         }
     }
 

@@ -20,5 +20,7 @@ pub mod joint;
 pub(crate) mod rows;
 pub(crate) mod solve;
 
-pub use desc::{Breaking, JointDesc, JointError, JointId, JointKind, Motor, Servo, Spring};
+pub use desc::{
+    Breaking, JointDesc, JointDrives, JointError, JointId, JointKind, Motor, Servo, Spring,
+};
 pub use joint::{Joint, JointImpulses};

@@ -6,7 +6,7 @@ use std::collections::HashSet;
 use super::World;
 use crate::physics::collision::broad_phase::BodyPair;
 use crate::physics::dynamics::body::BodyId;
-use crate::physics::joints::desc::{JointDesc, JointError, JointId};
+use crate::physics::joints::desc::{JointDesc, JointDrives, JointError, JointId, JointKind};
 use crate::physics::joints::joint::Joint;
 
 /// What the joints tie together: grown joint by joint as joints are added, derived from the
@@ -91,6 +91,26 @@ impl World {
             return Err(JointError::NoSuchJoint(id.0));
         };
         self.joints_changed(&[joint.body_a, joint.body_b]);
+        Ok(())
+    }
+
+    /// Changes what drives joint `id` (its motor, servo and spring) while the world runs;
+    /// its bodies wake. Refused, with the joint unchanged, for what `JointDesc::validate`
+    /// refuses of them, and for a spring on a rod (a distance joint made with neither limits
+    /// nor a spring, which its length holds rigidly: `Joint::limits`).
+    pub fn set_joint_drives(&mut self, id: JointId, drives: JointDrives) -> Result<(), JointError> {
+        let Some(joint) = self.joints.get_mut(id.0 as usize).and_then(Option::as_mut) else {
+            return Err(JointError::NoSuchJoint(id.0));
+        };
+        drives.check(joint.kind)?;
+        let rod =
+            joint.kind == JointKind::Distance && joint.limits.is_some_and(|(lo, hi)| lo == hi);
+        if rod && drives.spring.is_some() {
+            return Err(JointError::Unsupported("spring on a rod"));
+        }
+        (joint.motor, joint.servo, joint.spring) = (drives.motor, drives.servo, drives.spring);
+        let bodies = [joint.body_a, joint.body_b];
+        self.wake_joined(&bodies);
         Ok(())
     }
 
