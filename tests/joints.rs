@@ -201,13 +201,19 @@ fn a_heavy_end_mass_on_light_links_holds() {
     assert!(worst < 5e-3, "{worst} m");
 }
 
-/// A wheel (1 kg, radius 0.5 m) on a motorised hinge about the world z axis through its
-/// centre, with `load` N·m resisting the motor; returns its spin after 2 s, rad/s.
-fn motor_spin(target: f64, max_torque: f64, load: f64) -> f64 {
+/// A world without gravity holding a fixed frame and a wheel (1 kg, radius 0.5 m, its axis
+/// along z) at the origin, for a hinge about the world z axis through the wheel's centre.
+fn wheel_on_axle() -> (World, BodyId, BodyId) {
     let mut world = World::default();
     let frame = fixed_point(&mut world, DVec3::new(0.0, 0.0, -1.0));
     let wheel = world.add_body(BodyDesc::dynamic(Shape::cylinder(0.05, 0.5)).with_mass(1.0));
-    let wheel = wheel.unwrap();
+    (world, frame, wheel.unwrap())
+}
+
+/// A wheel (1 kg, radius 0.5 m) on a motorised hinge about the world z axis through its
+/// centre, with `load` N·m resisting the motor; returns its spin after 2 s, rad/s.
+fn motor_spin(target: f64, max_torque: f64, load: f64) -> f64 {
+    let (mut world, frame, wheel) = wheel_on_axle();
     let hinge =
         JointDesc::hinge(frame, wheel, DVec3::ZERO, DVec3::Z).with_motor(target, max_torque);
     world.add_joint(hinge).unwrap();
@@ -237,10 +243,7 @@ fn a_hinge_motor_reaches_its_speed_below_its_torque_and_stalls_above() {
 /// motor is turned around, and coasts on at that speed once the motor is taken off.
 #[test]
 fn a_motor_set_while_running_drives_the_wheel() {
-    let mut world = World::default();
-    let frame = fixed_point(&mut world, DVec3::new(0.0, 0.0, -1.0));
-    let wheel = world.add_body(BodyDesc::dynamic(Shape::cylinder(0.05, 0.5)).with_mass(1.0));
-    let wheel = wheel.unwrap();
+    let (mut world, frame, wheel) = wheel_on_axle();
     let hinge = world
         .add_joint(JointDesc::hinge(frame, wheel, DVec3::ZERO, DVec3::Z))
         .unwrap();
@@ -414,10 +417,7 @@ fn a_hinge_limit_past_half_a_turn_holds() {
 /// angle counts whole turns.
 #[test]
 fn a_spinning_hinge_counts_whole_turns() {
-    let mut world = World::default();
-    let frame = fixed_point(&mut world, DVec3::new(0.0, 0.0, -1.0));
-    let wheel = world.add_body(BodyDesc::dynamic(Shape::cylinder(0.05, 0.5)).with_mass(1.0));
-    let wheel = wheel.unwrap();
+    let (mut world, frame, wheel) = wheel_on_axle();
     let hinge = JointDesc::hinge(frame, wheel, DVec3::ZERO, DVec3::Z).with_motor(10.0, 1000.0);
     let hinge = world.add_joint(hinge).unwrap();
     let mut turned = 0.0;
@@ -447,10 +447,7 @@ fn servo_angles(
     load: f64,
     steps: usize,
 ) -> Vec<f64> {
-    let mut world = World::default();
-    let frame = fixed_point(&mut world, DVec3::new(0.0, 0.0, -1.0));
-    let wheel = world.add_body(BodyDesc::dynamic(Shape::cylinder(0.05, 0.5)).with_mass(1.0));
-    let wheel = wheel.unwrap();
+    let (mut world, frame, wheel) = wheel_on_axle();
     let servo = JointDesc::hinge(frame, wheel, DVec3::ZERO, DVec3::Z)
         .with_servo(target, hertz, damping, max);
     let hinge = world.add_joint(servo).unwrap();

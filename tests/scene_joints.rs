@@ -552,10 +552,9 @@ fn the_built_in_joint_scenes_hold_their_joints_and_run() {
         ("ragdolls", 80, 0),
     ];
     for (name, joints, kinematic) in scenes {
-        let scene = scene::find_builtin(name).unwrap().parse().unwrap();
+        let (scene, mut world) = built_in(name);
         let scripts = scene.scripted_motions().unwrap();
         assert_eq!(scripts.len(), kinematic, "{name}");
-        let mut world = scene.build_world().unwrap();
         assert_eq!(world.joint_count(), joints, "{name}");
         for _ in 0..600 {
             scene::drive(&scripts, &mut world, scene.settings.dt);
@@ -576,8 +575,7 @@ fn the_built_in_joint_scenes_hold_their_joints_and_run() {
 /// width.
 #[test]
 fn the_rope_bridge_catches_its_crates() {
-    let scene = scene::find_builtin("rope_bridge").unwrap().parse().unwrap();
-    let mut world = scene.build_world().unwrap();
+    let (scene, mut world) = built_in("rope_bridge");
     for _ in 0..2400 {
         world.step(scene.settings.dt);
     }
@@ -598,8 +596,7 @@ fn the_rope_bridge_catches_its_crates() {
 /// slopes are 15°), and is past the hill's far foot (x = 10) within 6 s.
 #[test]
 fn the_car_drives_over_its_hill() {
-    let scene = scene::find_builtin("car").unwrap().parse().unwrap();
-    let mut world = scene.build_world().unwrap();
+    let (scene, mut world) = built_in("car");
     let chassis = body_named(&world, "chassis");
     let dt = scene.settings.dt;
     let start_height = world.bodies()[chassis].position.y;
@@ -631,8 +628,7 @@ fn the_car_drives_over_its_hill() {
 /// back within 5° of shut after 4 s.
 #[test]
 fn the_door_swings_within_its_limits() {
-    let scene = scene::find_builtin("door").unwrap().parse().unwrap();
-    let mut world = scene.build_world().unwrap();
+    let (scene, mut world) = built_in("door");
     let ball = body_named(&world, "ball");
     let dt = scene.settings.dt;
     let angle = |world: &World| world.joints().next().unwrap().1.angle.to_degrees();
@@ -658,8 +654,7 @@ fn the_door_swings_within_its_limits() {
 /// past its cone by more than 3°; at the end every part rests above the floor.
 #[test]
 fn the_ragdolls_bend_within_their_limits() {
-    let scene = scene::find_builtin("ragdolls").unwrap().parse().unwrap();
-    let mut world = scene.build_world().unwrap();
+    let (scene, mut world) = built_in("ragdolls");
     let dt = scene.settings.dt;
     let (mut past_hinge, mut past_cone) = (0.0f64, 0.0f64);
     for _ in 0..(6.0 / dt).round() as usize {
@@ -701,6 +696,13 @@ fn swing(world: &World, joint: &rigid::physics::Joint) -> f64 {
     let axis_a = a.orientation * joint.local_axis_a;
     let axis_b = b.orientation * joint.local_axis_b;
     axis_a.angle_between(axis_b)
+}
+
+/// A built-in scene and the world it builds.
+fn built_in(name: &str) -> (Scene, World) {
+    let scene = scene::find_builtin(name).unwrap().parse().unwrap();
+    let world = scene.build_world().unwrap();
+    (scene, world)
 }
 
 /// The index of the body called `name`.
@@ -749,11 +751,7 @@ fn the_viewer_simulation_drives_the_scripts() {
 
 #[test]
 fn the_string_cradle_passes_the_striker_speed_to_the_last_ball() {
-    let scene = scene::find_builtin("cradle_strings")
-        .unwrap()
-        .parse()
-        .unwrap();
-    let mut world = scene.build_world().unwrap();
+    let (scene, mut world) = built_in("cradle_strings");
     let speed = |world: &World, name: &str| {
         let body = world.bodies().iter().find(|b| b.name == name).unwrap();
         body.velocity().x

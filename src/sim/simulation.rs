@@ -11,8 +11,8 @@ use glam::{DVec3, Vec3};
 
 use crate::physics::collision::broad_phase::UniformGrid;
 use crate::physics::{
-    Aabb, BodyId, BroadPhaseKind, EnvironmentForce, Fault, JointId, JointKind, Material, Motion,
-    RemoveError, RigidBody, World,
+    Aabb, BodyId, BroadPhaseKind, EnvironmentForce, Fault, JointDrives, JointId, JointKind,
+    Material, Motion, RemoveError, RigidBody, World,
 };
 use crate::scene::{self, ScriptedMotion};
 use crate::sim::command::{Command, DT_RANGE, SpawnKind};
@@ -766,10 +766,7 @@ fn broad_phase_cells(world: &World) -> Vec<(Vec3, Vec3)> {
 /// The joints with a motor, servo or spring, for the panel to change live.
 fn driven_joints(world: &World) -> Vec<DrivenJoint> {
     let bodies = world.bodies();
-    let driven = world.joints().filter(|(_, joint)| {
-        let drives = joint.drives();
-        drives.motor.is_some() || drives.servo.is_some() || drives.spring.is_some()
-    });
+    let driven = (world.joints()).filter(|(_, joint)| joint.drives() != JointDrives::default());
     driven
         .map(|(id, joint)| {
             let name = |id: BodyId| bodies[id.index()].name.as_str();

@@ -113,10 +113,7 @@ impl Side {
             return;
         }
         let held = &mut slots[self.slot as usize].joints_warm_start;
-        let impulses = [impulse.linear, impulse.angular];
-        for (total, impulse) in held.iter_mut().zip(impulses) {
-            *total = F64x4::from_vec3(total.to_vec3() + impulse);
-        }
+        add_to_lanes(held, [impulse.linear, impulse.angular]);
     }
 
     /// Adds the momenta the rows gave the body to its slot, and counts them as given before
@@ -129,13 +126,22 @@ impl Side {
         }
         let slot = &mut slots[self.slot as usize];
         let impulses = [view.linear_impulse, view.angular_impulse];
-        let momenta = [&mut slot.linear_momentum, &mut slot.angular_momentum];
-        for (momentum, impulse) in momenta.into_iter().zip(impulses) {
-            *momentum = F64x4::from_vec3(momentum.to_vec3() + impulse);
-        }
-        for (before, impulse) in slot.before_contacts.iter_mut().zip(impulses) {
-            *before = F64x4::from_vec3(before.to_vec3() + impulse);
-        }
+        add_to_lanes(
+            [&mut slot.linear_momentum, &mut slot.angular_momentum],
+            impulses,
+        );
+        add_to_lanes(&mut slot.before_contacts, impulses);
+    }
+}
+
+/// Adds a linear and an angular impulse to a slot's pair of lanes (momenta, or what is held
+/// for a warm start).
+fn add_to_lanes<'a>(
+    totals: impl IntoIterator<Item = &'a mut F64x4>,
+    [linear, angular]: [DVec3; 2],
+) {
+    for (total, impulse) in totals.into_iter().zip([linear, angular]) {
+        *total = F64x4::from_vec3(total.to_vec3() + impulse);
     }
 }
 

@@ -120,7 +120,8 @@ impl PointConstraint {
 
     /// A normal impulse only.
     pub(super) fn apply_normal<L: Lanes>(&self, l: L, bodies: &SharedBodies, lambda: f64) {
-        let [to_a, to_b] = self.on_each_body(l, l.load_narrow_columns(&self.across)[0] * lambda);
+        let normal = l.load(F64x4::from_vec3(self.normal()));
+        let [to_a, to_b] = self.on_each_body(l, normal * lambda);
         bodies.add(l, to_a);
         bodies.add(l, to_b);
     }
@@ -185,7 +186,7 @@ pub(super) struct Side {
 ///
 /// Only the relax pass reads these, so they are kept in a list of their own, in the
 /// constraints' order, out of the records that every pass streams (BENCHMARKS.md, "Contact
-/// anchors apart").
+/// records in five cache lines").
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct PointAnchors {
     pub(super) a: F64x4,
