@@ -3,6 +3,7 @@
 //! impulses accumulated so far.
 
 use glam::{DMat3, DVec3};
+use smallvec::SmallVec;
 
 use super::WarmImpulse;
 use crate::physics::dynamics::body::RigidBody;
@@ -20,11 +21,13 @@ use crate::physics::solver::solver_bodies::{
 /// impulse gives is derived from the levers. The directions, levers and spins are stored
 /// as f32 (`F32x4`) and widened to f64 as a pass loads them; `prepare` rounds the
 /// directions and levers first, so that the passes solve the constraint it prepared. The
-/// directions are stored once, transposed (`across`), and turned back into vectors where
-/// an impulse needs them. The anchors, which only the relax pass reads, are kept apart
-/// (`PointAnchors`). The fields are laid out in the order a pass reads them, so that the
-/// processor's prefetcher sees one forward stream, and a record is five whole cache lines
-/// (BENCHMARKS.md, "Narrow contact records", "Contact records in five cache lines").
+/// tangents' masses and couplings and the friction coefficient, which only scale a
+/// friction step, are f32 too. The directions are stored once, transposed (`across`), and
+/// turned back into vectors where an impulse needs them. What only the relax pass reads
+/// (`PointAnchors`) and what only restitution reads (`PointImpact`) are kept apart. The
+/// fields are laid out in the order a pass reads them, so that the processor's prefetcher
+/// sees one forward stream, and a record is four whole cache lines (BENCHMARKS.md,
+/// "Narrow contact records", "Contact records in four cache lines").
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C, align(64))]
 pub(super) struct PointConstraint {
@@ -33,6 +36,8 @@ pub(super) struct PointConstraint {
     /// Whether the next contact in the pass shares no moving body with this one, so that
     /// the two may be solved side by side (`solve_two`).
     pub(super) pairs_with_next: bool,
+    /// The pair's Coulomb coefficient, √(μa μb).
+    pub(super) friction: f32,
     /// The impulses accumulated so far, N·s: the warm start at first, the contact's final
     /// impulse after the step.
     pub(super) impulse: WarmImpulse,
@@ -42,35 +47,16 @@ pub(super) struct PointConstraint {
     pub(super) separation: f64,
     /// The mass an impulse along the normal meets, kg (zero when neither body moves).
     pub(super) normal_mass: f64,
+    /// The largest normal impulse one pass has added in this step, N·s: zero until the
+    /// contact first pushes, and restitution leaves a contact that never did alone.
+    pub(super) max_normal_impulse: f64,
     /// The same along each tangent, kg.
-    pub(super) tangent_mass: [f64; 2],
+    pub(super) tangent_mass: [f32; 2],
     /// What a unit normal impulse adds to the relative speed along each tangent (zero for
     /// point masses; the lever arms couple them). The friction solve after the normal
     /// solve reads the tangent speeds through it instead of from the bodies again, so that
     /// each contact reads and writes its two bodies once per pass.
-    pub(super) normal_to_tangent: [f64; 2],
-    /// The pair's Coulomb coefficient, √(μa μb).
-    pub(super) friction: f64,
-    /// The largest normal impulse one pass has added in this step, N·s: zero until the
-    /// contact first pushes, and restitution leaves a contact that never did alone.
-    pub(super) max_normal_impulse: f64,
-    /// Relative normal acceleration from the environmental forces, for the impact speed.
-    pub(super) approach_acceleration: f64,
-    /// The fastest approach the pair can reach in this step on its own, m/s, negative
-    /// (`prepare::fastest_approach`): `approach_speed` is never taken faster than this. A
-    /// neighbour solved earlier in the same pass can push the bodies together faster; that
-    /// momentum is the neighbour's contact's business, and bouncing it here too would add
-    /// energy, as it did to a ball pressed onto a pin by another when the ball–ball contact
-    /// happened to be solved first (BENCHMARKS.md, "Fastest approach").
-    pub(super) fastest_approach: f64,
-    /// Normal relative velocity at impact, m/s (negative when closing), as the speed of the
-    /// discrete arc (see `restitution::rebound_speed`); until the contact first pushes, the
-    /// one at step start. What restitution reflects.
-    pub(super) approach_speed: f64,
-    /// The pair's restitution ε, the smaller of the two.
-    pub(super) restitution: f64,
-    /// Separation = normal · (world anchor b − world anchor a) + separation_offset.
-    pub(super) separation_offset: f64,
+    pub(super) normal_to_tangent: [f32; 2],
     /// The normal and the tangents, transposed (lane k of `across[c]` is component c of
     /// direction k), to take the speeds along all three at once.
     pub(super) across: [F32x4; 3],
@@ -80,8 +66,84 @@ pub(super) struct PointConstraint {
     pub(super) b: Side,
 }
 
-// Five cache lines (see the struct's comment).
-const _: () = assert!(std::mem::size_of::<PointConstraint>() == 320);
+/// What restitution reads of a prepared contact point, kept out of the records every pass
+/// streams; a pass only writes `approach_speed`, when the contact first pushes.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct PointImpact {
+    /// Normal relative velocity at impact, m/s (negative when closing), as the speed of the
+    /// discrete arc (see `restitution::rebound_speed`); until the contact first pushes, the
+    /// one at step start. What restitution reflects.
+    pub(super) approach_speed: f64,
+    /// Relative normal acceleration from the environmental forces, for the impact speed.
+    pub(super) approach_acceleration: f64,
+    /// The fastest approach the pair can reach in this step on its own, m/s, negative
+    /// (`prepare::fastest_approach`): `approach_speed` is never taken faster than this. A
+    /// neighbour solved earlier in the same pass can push the bodies together faster; that
+    /// momentum is the neighbour's contact's business, and bouncing it here too would add
+    /// energy, as it did to a ball pressed onto a pin by another when the ball–ball contact
+    /// happened to be solved first (BENCHMARKS.md, "Fastest approach").
+    pub(super) fastest_approach: f64,
+    /// The pair's restitution ε, the smaller of the two.
+    pub(super) restitution: f64,
+}
+
+/// Contact points with their anchors and impacts, in the same order.
+pub(super) struct Contacts<'a> {
+    pub(super) points: &'a mut [PointConstraint],
+    pub(super) anchors: &'a [PointAnchors],
+    pub(super) impacts: &'a mut [PointImpact],
+}
+
+impl<'a> Contacts<'a> {
+    /// The points in `range`.
+    pub(super) fn range(&mut self, range: std::ops::Range<usize>) -> Contacts<'_> {
+        Contacts {
+            points: &mut self.points[range.clone()],
+            anchors: &self.anchors[range.clone()],
+            impacts: &mut self.impacts[range],
+        }
+    }
+
+    /// The same points, borrowed again.
+    pub(super) fn reborrow(&mut self) -> Contacts<'_> {
+        Contacts {
+            points: self.points,
+            anchors: self.anchors,
+            impacts: self.impacts,
+        }
+    }
+
+    /// The points cut into about `parts` runs of near-equal length that never cut a run of
+    /// points between the same two bodies (a manifold), at most `MAX_PARTS`.
+    pub(super) fn split(self, parts: usize) -> SmallVec<[Contacts<'a>; MAX_PARTS]> {
+        let length = self.points.len().div_ceil(parts.clamp(1, MAX_PARTS));
+        let mut split = SmallVec::new();
+        let mut rest = self;
+        while !rest.points.is_empty() {
+            let mut end = length.min(rest.points.len());
+            while end < rest.points.len() && rest.points[end].same_bodies(&rest.points[end - 1]) {
+                end += 1;
+            }
+            let (points, points_rest) = std::mem::take(&mut rest.points).split_at_mut(end);
+            let (anchors, anchors_rest) = rest.anchors.split_at(end);
+            let (impacts, impacts_rest) = std::mem::take(&mut rest.impacts).split_at_mut(end);
+            (rest.points, rest.anchors, rest.impacts) = (points_rest, anchors_rest, impacts_rest);
+            split.push(Contacts {
+                points,
+                anchors,
+                impacts,
+            });
+        }
+        split
+    }
+}
+
+/// The most parts `Contacts::split` makes: a colour split many times over the threads
+/// balances them, and a split costs little next to a colour large enough to spread.
+pub(super) const MAX_PARTS: usize = 32;
+
+// Four cache lines (see the struct's comment).
+const _: () = assert!(std::mem::size_of::<PointConstraint>() == 256);
 
 impl PointConstraint {
     pub(super) fn normal(&self) -> DVec3 {
@@ -186,11 +248,13 @@ pub(super) struct Side {
 ///
 /// Only the relax pass reads these, so they are kept in a list of their own, in the
 /// constraints' order, out of the records that every pass streams (BENCHMARKS.md, "Contact
-/// records in five cache lines").
+/// records in five cache lines", "Contact records in four cache lines").
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct PointAnchors {
-    pub(super) a: F64x4,
-    pub(super) b: F64x4,
+    pub(super) a: DVec3,
+    pub(super) b: DVec3,
+    /// Separation = normal · (world anchor b − world anchor a) + this.
+    pub(super) separation_offset: f64,
 }
 
 impl PointAnchors {
@@ -208,19 +272,20 @@ impl PointAnchors {
             anchor_in_world(l, self.a, bodies, slot_a),
             anchor_in_world(l, self.b, bodies, slot_b),
         );
-        (anchor_b - anchor_a).dot3(c.normal()) + c.separation_offset
+        (anchor_b - anchor_a).dot3(c.normal()) + self.separation_offset
     }
 }
 
 /// An anchor (`PointAnchors`) in world coordinates at the body's current pose.
 #[inline(always)]
-fn anchor_in_world<L: Lanes>(l: L, anchor: F64x4, bodies: &SharedBodies, slot: u32) -> L::Vector {
+fn anchor_in_world<L: Lanes>(l: L, anchor: DVec3, bodies: &SharedBodies, slot: u32) -> L::Vector {
     if !moves(slot) {
-        return l.load(anchor); // without reading the slot: this runs every relax pass
+        // Without reading the slot: this runs every relax pass.
+        return l.load(F64x4::from_vec3(anchor));
     }
     let body = bodies.get(slot);
     let [x, y, z] = load3(l, &body.orientation);
-    l.load(body.position) + (x * anchor.lane(0) + y * anchor.lane(1) + z * anchor.lane(2))
+    l.load(body.position) + (x * anchor.x + y * anchor.y + z * anchor.z)
 }
 
 /// What a side's impulses do while a contact is prepared: for the normal and the two
@@ -330,12 +395,6 @@ impl<V: LaneVector> SideGeometry<V> {
                 self.spins[2].store(),
             ]),
         }
-    }
-
-    /// The anchor as `PointAnchors` stores it.
-    #[inline(always)]
-    pub(super) fn stored_anchor(&self) -> F64x4 {
-        F64x4::from_vec3(self.anchor)
     }
 }
 

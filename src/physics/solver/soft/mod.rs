@@ -51,7 +51,7 @@ use crate::physics::solver::lanes::Avx2;
 use crate::physics::solver::lanes::{Lanes, Portable};
 use crate::physics::solver::solver_bodies::{SolverBodies, SpinGuard};
 use crate::physics::stage_times::timed;
-use constraint::{PointAnchors, PointConstraint};
+use constraint::{Contacts, PointAnchors, PointConstraint, PointImpact};
 use prepare::SlotMotion;
 use solve::Pass;
 pub(crate) use solve::Softness;
@@ -157,6 +157,8 @@ pub struct SoftScratch {
     constraints: Vec<PointConstraint>,
     /// The constraints' anchors, in the same order.
     anchors: Vec<PointAnchors>,
+    /// What restitution reads of them, in the same order.
+    impacts: Vec<PointImpact>,
     colors: ContactColors,
     user_forces: Vec<(DVec3, DVec3)>,
     /// Each slot's body's motion at step start.
@@ -232,6 +234,7 @@ fn step_inline<L: Lanes>(
     let SoftScratch {
         constraints,
         anchors,
+        impacts,
         colors,
         user_forces,
         bodies: slots,
@@ -269,7 +272,12 @@ fn step_inline<L: Lanes>(
         });
         let (joint_slots, none) = (&mut slots.slots, NextSubstep::None);
         joint_solve::solve_all(joint_constraints, joint_slots, bodies, joints_biased, none);
-        solve::for_each_contact(&mut slots.slots, (constraints, anchors), colors, biased, h);
+        let mut contacts = Contacts {
+            points: constraints,
+            anchors,
+            impacts,
+        };
+        solve::for_each_contact(&mut slots.slots, &mut contacts, colors, biased, h);
         slots.limit_spins(bodies, &guards.list, max_spin);
         timed(ctx.timed, &mut integrate_seconds, || {
             slots.integrate_positions(bodies, |body| {
@@ -283,18 +291,12 @@ fn step_inline<L: Lanes>(
             joints_relax,
             next,
         );
-        solve::for_each_contact(
-            &mut slots.slots,
-            (constraints, anchors),
-            colors,
-            Pass::Relax,
-            h,
-        );
+        solve::for_each_contact(&mut slots.slots, &mut contacts, colors, Pass::Relax, h);
         slots.limit_spins(bodies, &guards.list, max_spin);
         slots.store_warm_start(bodies, substep + 1 < substeps);
     }
     let threshold = ctx.settings.restitution_threshold;
-    restitution::apply_restitution(slots, constraints, colors, threshold, h);
+    restitution::apply_restitution(slots, (constraints, impacts), colors, threshold, h);
     slots.limit_spins(bodies, &guards.list, max_spin);
     joint_solve::finish(joint_constraints, &slots.slots, bodies, joints, h);
     slots.write_back(bodies);

@@ -5,7 +5,9 @@
 
 use glam::DVec3;
 
-use super::constraint::{PointAnchors, PointConstraint, SideGeometry, inv_mass, load3, moves};
+use super::constraint::{
+    PointAnchors, PointConstraint, PointImpact, SideGeometry, inv_mass, load3, moves,
+};
 use super::{ContactInput, SoftScratch, StepContext};
 use crate::physics::dynamics::body::RigidBody;
 use crate::physics::dynamics::forces::EnvironmentForce;
@@ -27,6 +29,7 @@ pub(super) fn prepare_contacts<L: Lanes>(
     let SoftScratch {
         constraints,
         anchors,
+        impacts,
         colors,
         motions,
         bodies: slots,
@@ -41,6 +44,7 @@ pub(super) fn prepare_contacts<L: Lanes>(
     // Written in place: collecting would build each (large) constraint aside and copy it.
     constraints.resize(colors.order.len(), PointConstraint::default());
     anchors.resize(colors.order.len(), PointAnchors::default());
+    impacts.resize(colors.order.len(), PointImpact::default());
     // A manifold's points share their normal, and so their tangents: taken in contact order,
     // where they are neighbours.
     let mut basis = (DVec3::NAN, [DVec3::NAN; 2]);
@@ -49,7 +53,8 @@ pub(super) fn prepare_contacts<L: Lanes>(
             basis = (contact.normal, tangent_basis(contact.normal));
         }
         let k = position as usize;
-        (constraints[k], anchors[k]) = prepare(l, bodies, slots, contact, basis.1, motions, ctx.dt);
+        (constraints[k], anchors[k], impacts[k]) =
+            prepare(l, bodies, slots, contact, basis.1, motions, ctx.dt);
     }
     mark_pairs(constraints);
 }
@@ -119,8 +124,8 @@ fn velocity_at_start(body: &RigidBody, slot: u32, motions: &[SlotMotion], lever:
     }
 }
 
-/// The constraint of one contact point, whose normal has the tangents `[t1, t2]`, and its
-/// anchors.
+/// The constraint of one contact point, whose normal has the tangents `[t1, t2]`, its
+/// anchors and what restitution reads of it.
 #[inline(always)]
 pub(super) fn prepare<L: Lanes>(
     l: L,
@@ -130,7 +135,7 @@ pub(super) fn prepare<L: Lanes>(
     [t1, t2]: [DVec3; 2],
     motions: &[SlotMotion],
     dt: f64,
-) -> (PointConstraint, PointAnchors) {
+) -> (PointConstraint, PointAnchors, PointImpact) {
     let (a, b) = (&bodies[contact.a], &bodies[contact.b]);
     // The passes read the directions and levers as f32 (`PointConstraint`): everything here
     // is worked out from those same values, so that the passes solve the constraint prepared.
@@ -157,29 +162,32 @@ pub(super) fn prepare<L: Lanes>(
     let inv_masses = inv_mass(a, slot_a) + inv_mass(b, slot_b);
     let [normal_mass, tangent_1, tangent_2] = effective_masses(l, &side_a, &side_b, inv_masses);
     let anchors = PointAnchors {
-        a: side_a.stored_anchor(),
-        b: side_b.stored_anchor(),
+        a: side_a.anchor,
+        b: side_b.anchor,
+        separation_offset,
     };
+    let [coupling_1, coupling_2] = normal_to_tangent(l, &side_a, &side_b, inv_masses, &across);
     let constraint = PointConstraint {
         pairs_with_next: false,
         separation: normal.dot(anchor_b - anchor_a) + separation_offset,
-        normal_to_tangent: normal_to_tangent(l, &side_a, &side_b, inv_masses, &across),
+        normal_to_tangent: [coupling_1 as f32, coupling_2 as f32],
         a: side_a.into_lanes(),
         b: side_b.into_lanes(),
         across: F32x4::narrowed3(across),
         slots: [slot_a, slot_b],
-        separation_offset,
         normal_mass,
-        tangent_mass: [tangent_1, tangent_2],
+        tangent_mass: [tangent_1 as f32, tangent_2 as f32],
         impulse: contact.warm_impulse,
         max_normal_impulse: 0.0,
+        friction: (a.material.friction * b.material.friction).sqrt() as f32,
+    };
+    let impact = PointImpact {
         approach_speed,
         fastest_approach: fastest_approach(approach_speed, approach_acceleration, contact, dt),
         approach_acceleration,
-        friction: (a.material.friction * b.material.friction).sqrt(),
         restitution: a.material.restitution.min(b.material.restitution),
     };
-    (constraint, anchors)
+    (constraint, anchors, impact)
 }
 
 /// The mass an impulse along each direction meets: the inverse of the report's denominator

@@ -1,7 +1,7 @@
 //! **Restitution**, once per step after the substeps: contacts that were approaching faster
 //! than the threshold leave at ε times their approach speed.
 
-use super::constraint::PointConstraint;
+use super::constraint::{PointConstraint, PointImpact};
 use crate::physics::solver::contact_colors::ContactColors;
 use crate::physics::solver::lanes::Portable;
 use crate::physics::solver::solver_bodies::{SharedBodies, SolverBodies};
@@ -13,7 +13,7 @@ use crate::physics::solver::solver_bodies::{SharedBodies, SolverBodies};
 /// keep serial.
 pub(super) fn apply_restitution(
     slots: &mut SolverBodies,
-    constraints: &mut [PointConstraint],
+    (constraints, impacts): (&mut [PointConstraint], &[PointImpact]),
     colors: &ContactColors,
     threshold: f64,
     h: f64,
@@ -21,20 +21,27 @@ pub(super) fn apply_restitution(
     // SAFETY: used on this thread only.
     let shared = unsafe { SharedBodies::new(&mut slots.slots) };
     for &k in &colors.position_of {
-        restitute(&shared, &mut constraints[k as usize], threshold, h);
+        let k = k as usize;
+        restitute(&shared, (&mut constraints[k], &impacts[k]), threshold, h);
     }
 }
 
 /// Newton's restitution on contacts that were approaching faster than the threshold: the
 /// outgoing normal speed becomes ε times the approach speed, as `rebound_speed` reads it
 /// for the substeps of length `h`.
-fn restitute(bodies: &SharedBodies, c: &mut PointConstraint, threshold: f64, h: f64) {
-    if c.restitution == 0.0 || c.approach_speed > -threshold || c.max_normal_impulse == 0.0 {
+fn restitute(
+    bodies: &SharedBodies,
+    (c, impact): (&mut PointConstraint, &PointImpact),
+    threshold: f64,
+    h: f64,
+) {
+    let slow = impact.approach_speed > -threshold;
+    if impact.restitution == 0.0 || slow || c.max_normal_impulse == 0.0 {
         return;
     }
     let gap = c.separation.max(0.0);
     let [normal_speed, _, _] = c.speeds(Portable, bodies);
-    let delta = -c.normal_mass * (normal_speed - rebound_speed(c, gap, h));
+    let delta = -c.normal_mass * (normal_speed - rebound_speed(impact, gap, h));
     let accumulated = (c.impulse.normal + delta).max(0.0);
     let applied = accumulated - c.impulse.normal;
     c.impulse.normal = accumulated;
@@ -53,7 +60,7 @@ fn restitute(bodies: &SharedBodies, c: &mut PointConstraint, threshold: f64, h: 
 /// leaves a gap the next step would close. The rebound gets the speed it has at that gap,
 /// √(w_out² + 2 a s) as `impact_speed` mirrored; leaving at the impact speed from above the
 /// surface would add |a|·s of height.
-fn rebound_speed(c: &PointConstraint, gap: f64, h: f64) -> f64 {
+fn rebound_speed(c: &PointImpact, gap: f64, h: f64) -> f64 {
     let a = c.approach_acceleration;
     let at_surface = -c.restitution * c.approach_speed;
     let at_gap = if a < 0.0 {

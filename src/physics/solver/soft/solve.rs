@@ -4,7 +4,7 @@
 use rayon::prelude::*;
 
 use super::SoftSolverSettings;
-use super::constraint::{PointAnchors, PointConstraint};
+use super::constraint::{Contacts, PointConstraint, PointImpact};
 use crate::physics::solver::contact_colors::ContactColors;
 use crate::physics::solver::impulse::clamp_to_friction_disc;
 #[cfg(target_arch = "x86_64")]
@@ -72,6 +72,10 @@ impl Softness {
 /// Contacts in a colour that make it worth spreading over the threads.
 const PARALLEL_MIN_CONTACTS: usize = 128;
 
+/// Parts a colour is split into per thread, so that a thread that finishes early takes
+/// another.
+const PARTS_PER_THREAD: usize = 4;
+
 /// One pass of a substep over the contacts.
 ///
 /// Each substep starts by applying the impulses the contacts hold (the warm start). That
@@ -93,12 +97,11 @@ pub(super) enum Pass {
 }
 
 /// Runs `pass` on every contact, colour by colour (see `contact_colors`). A colour large
-/// enough is spread over the threads, a manifold per task; the result is the same to the
-/// last bit, as its manifolds share no moving body. `anchors` are the constraints' anchors,
-/// in the same order.
+/// enough is split over the threads, in runs of whole manifolds; the result is the same to
+/// the last bit, as its manifolds share no moving body.
 pub(super) fn for_each_contact(
     bodies: &mut [SolverBody],
-    (constraints, anchors): (&mut [PointConstraint], &[PointAnchors]),
+    contacts: &mut Contacts,
     colors: &ContactColors,
     pass: Pass,
     h: f64,
@@ -108,21 +111,12 @@ pub(super) fn for_each_contact(
     let shared = unsafe { SharedBodies::new(bodies) };
     let threads = rayon::current_num_threads();
     for (range, parallel) in colors.ranges() {
-        let color_anchors = &anchors[range.clone()];
-        let color = &mut constraints[range];
-        if parallel && threads > 1 && color.len() >= PARALLEL_MIN_CONTACTS {
-            let start = color.as_ptr() as usize;
-            color
-                .par_chunk_by_mut(PointConstraint::same_bodies)
-                .for_each(|manifold| {
-                    // The manifold's place in its colour, to find its anchors.
-                    let offset = manifold.as_ptr() as usize - start;
-                    let first = offset / std::mem::size_of::<PointConstraint>();
-                    let anchors = &color_anchors[first..first + manifold.len()];
-                    run_pass(pass, &shared, (manifold, anchors), h)
-                });
+        let color = contacts.range(range);
+        if parallel && threads > 1 && color.points.len() >= PARALLEL_MIN_CONTACTS {
+            let mut parts = color.split(PARTS_PER_THREAD * threads);
+            (parts.par_iter_mut()).for_each(|part| run_pass(pass, &shared, part.reborrow(), h));
         } else {
-            run_pass(pass, &shared, (color, color_anchors), h);
+            run_pass(pass, &shared, color, h);
         }
     }
 }
@@ -138,9 +132,6 @@ fn run_pass(pass: Pass, bodies: &SharedBodies, contacts: Contacts, h: f64) {
     }
     run_pass_inline(Portable, pass, bodies, contacts, h);
 }
-
-/// Contact points and their anchors, in the same order.
-pub(super) type Contacts<'a> = (&'a mut [PointConstraint], &'a [PointAnchors]);
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
@@ -160,9 +151,14 @@ pub(super) fn run_pass_inline<L: Lanes>(
     l: L,
     pass: Pass,
     bodies: &SharedBodies,
-    (contacts, anchors): Contacts,
+    contacts: Contacts,
     h: f64,
 ) {
+    let Contacts {
+        points,
+        anchors,
+        impacts,
+    } = contacts;
     // Plain loops: an iterator adaptor's closure may be left out of line, and would then be
     // compiled without the variant's instructions.
     let bias = match pass {
@@ -174,18 +170,22 @@ pub(super) fn run_pass_inline<L: Lanes>(
     };
     let relax = bias.is_none();
     let mut k = 0;
-    while k < contacts.len() {
-        let paired = contacts[k].pairs_with_next && k + 1 < contacts.len();
-        let group = &mut contacts[k..k + 1 + paired as usize];
+    while k < points.len() {
+        let paired = points[k].pairs_with_next && k + 1 < points.len();
+        let end = k + 1 + paired as usize;
+        let (group, group_impacts) = (&mut points[k..end], &mut impacts[k..end]);
         if relax {
             for (c, anchors) in group.iter_mut().zip(&anchors[k..]) {
                 c.separation = anchors.separation(l, bodies, c);
             }
         }
-        k += group.len();
-        match group {
-            [first, second] => solve_two(l, bodies, [first, second], h, bias),
-            [only] => solve(l, bodies, only, h, bias),
+        k = end;
+        match (group, group_impacts) {
+            ([first, second], [first_impact, second_impact]) => {
+                let pair = [(first, first_impact), (second, second_impact)];
+                solve_two(l, bodies, pair, h, bias)
+            }
+            ([only], [impact]) => solve(l, bodies, (only, impact), h, bias),
             _ => unreachable!("a group is one contact or two"),
         }
     }
@@ -197,13 +197,13 @@ pub(super) fn run_pass_inline<L: Lanes>(
 fn solve_two<L: Lanes>(
     l: L,
     bodies: &SharedBodies,
-    [x, y]: [&mut PointConstraint; 2],
+    [(x, impact_x), (y, impact_y)]: [(&mut PointConstraint, &mut PointImpact); 2],
     h: f64,
     bias: Option<(Softness, f64)>,
 ) {
     let (speeds_x, speeds_y) = (x.speeds(l, bodies), y.speeds(l, bodies));
-    let normal_x = solve_normal(x, speeds_x[0], h, bias);
-    let normal_y = solve_normal(y, speeds_y[0], h, bias);
+    let normal_x = solve_normal((x, impact_x), speeds_x[0], h, bias);
+    let normal_y = solve_normal((y, impact_y), speeds_y[0], h, bias);
     let friction_x = solve_friction(x, tangent_speeds(x, speeds_x, normal_x));
     let friction_y = solve_friction(y, tangent_speeds(y, speeds_y, normal_y));
     x.apply(l, bodies, [normal_x, friction_x[0], friction_x[1]]);
@@ -216,12 +216,12 @@ fn solve_two<L: Lanes>(
 fn solve<L: Lanes>(
     l: L,
     bodies: &SharedBodies,
-    c: &mut PointConstraint,
+    (c, impact): (&mut PointConstraint, &mut PointImpact),
     h: f64,
     bias: Option<(Softness, f64)>,
 ) {
     let speeds = c.speeds(l, bodies);
-    let normal = solve_normal(c, speeds[0], h, bias);
+    let normal = solve_normal((c, impact), speeds[0], h, bias);
     let [t1, t2] = solve_friction(c, tangent_speeds(c, speeds, normal));
     c.apply(l, bodies, [normal, t1, t2]);
 }
@@ -235,8 +235,8 @@ fn tangent_speeds(c: &PointConstraint, speeds: [f64; 3], normal: f64) -> [f64; 2
         [speeds[1], speeds[2]]
     } else {
         [
-            speeds[1] + c.normal_to_tangent[0] * normal,
-            speeds[2] + c.normal_to_tangent[1] * normal,
+            speeds[1] + f64::from(c.normal_to_tangent[0]) * normal,
+            speeds[2] + f64::from(c.normal_to_tangent[1]) * normal,
         ]
     }
 }
@@ -244,7 +244,7 @@ fn tangent_speeds(c: &PointConstraint, speeds: [f64; 3], normal: f64) -> [f64; 2
 /// The normal impulse this pass adds, at the relative normal speed `normal_speed`.
 #[inline(always)]
 fn solve_normal(
-    c: &mut PointConstraint,
+    (c, impact): (&mut PointConstraint, &mut PointImpact),
     normal_speed: f64,
     h: f64,
     bias: Option<(Softness, f64)>,
@@ -272,9 +272,9 @@ fn solve_normal(
         // still open would have been crossed while accelerating. The velocity holds this
         // substep's kick; the bodies are where the substep started before the drift and
         // where it ended after (the relax pass), which sets the arc speed there.
-        let a = c.approach_acceleration;
+        let a = impact.approach_acceleration;
         let arc_speed = normal_speed + if bias.is_some() { -0.5 } else { 0.5 } * a * h;
-        c.approach_speed = impact_speed(arc_speed, a, separation).max(c.fastest_approach);
+        impact.approach_speed = impact_speed(arc_speed, a, separation).max(impact.fastest_approach);
     }
     c.impulse.normal = accumulated;
     c.max_normal_impulse = at_least(applied, c.max_normal_impulse);
@@ -304,10 +304,11 @@ fn at_least(x: f64, floor: f64) -> f64 {
 /// the impulses this pass adds along the tangents.
 #[inline(always)]
 fn solve_friction(c: &mut PointConstraint, speeds: [f64; 2]) -> [f64; 2] {
-    let limit = c.friction * c.impulse.normal;
+    let limit = f64::from(c.friction) * c.impulse.normal;
+    let tangent_mass = [f64::from(c.tangent_mass[0]), f64::from(c.tangent_mass[1])];
     let unclamped = [
-        c.impulse.tangent[0] - c.tangent_mass[0] * speeds[0],
-        c.impulse.tangent[1] - c.tangent_mass[1] * speeds[1],
+        c.impulse.tangent[0] - tangent_mass[0] * speeds[0],
+        c.impulse.tangent[1] - tangent_mass[1] * speeds[1],
     ];
     let accumulated = clamp_to_friction_disc(unclamped, limit);
     let applied = [

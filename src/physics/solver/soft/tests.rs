@@ -1,6 +1,6 @@
 use glam::{DQuat, DVec3};
 
-use super::constraint::{PointAnchors, PointConstraint};
+use super::constraint::{Contacts, MAX_PARTS, PointAnchors, PointConstraint, PointImpact};
 use super::prepare::{SlotMotion, mark_pairs, prepare};
 #[cfg(target_arch = "x86_64")]
 use super::solve::run_pass_avx2;
@@ -25,14 +25,26 @@ fn one_thread(slots: &mut SolverBodies) -> SharedBodies<'_> {
     unsafe { SharedBodies::new(&mut slots.slots) }
 }
 
-/// A scene's bodies, their slots, and its contacts prepared: the constraints and their
-/// anchors.
-type Scene = (
-    Vec<RigidBody>,
-    SolverBodies,
-    Vec<PointConstraint>,
-    Vec<PointAnchors>,
-);
+/// A scene's bodies, their slots, and its contacts prepared.
+type Scene = (Vec<RigidBody>, SolverBodies, Prepared);
+
+/// Prepared contact points: the constraints, their anchors and their impacts.
+#[derive(Debug)]
+struct Prepared {
+    points: Vec<PointConstraint>,
+    anchors: Vec<PointAnchors>,
+    impacts: Vec<PointImpact>,
+}
+
+impl Prepared {
+    fn contacts(&mut self) -> Contacts<'_> {
+        Contacts {
+            points: &mut self.points,
+            anchors: &self.anchors,
+            impacts: &mut self.impacts,
+        }
+    }
+}
 
 /// Two turning, moving boxes on a fixed one, with contacts at skew points and
 /// remembered impulses, prepared as a step would.
@@ -80,32 +92,39 @@ fn scene_prepared_with<L: Lanes>(l: L) -> Scene {
     ];
     let mut motions = Vec::new();
     SlotMotion::gather(&mut motions, &bodies, &[1, 2], &[]);
-    let (mut constraints, anchors): (Vec<_>, Vec<_>) = (contacts.iter())
-        .map(|c| {
-            prepare(
-                l,
-                &bodies,
-                &slots,
-                c,
-                tangent_basis(c.normal),
-                &motions,
-                1.0 / 60.0,
-            )
-        })
-        .unzip();
-    mark_pairs(&mut constraints);
-    assert!(constraints[0].pairs_with_next && !constraints[2].pairs_with_next);
-    (bodies, slots, constraints, anchors)
+    let (mut points, mut anchors, mut impacts) = (Vec::new(), Vec::new(), Vec::new());
+    for c in &contacts {
+        let (point, anchor, impact) = prepare(
+            l,
+            &bodies,
+            &slots,
+            c,
+            tangent_basis(c.normal),
+            &motions,
+            1.0 / 60.0,
+        );
+        points.push(point);
+        anchors.push(anchor);
+        impacts.push(impact);
+    }
+    mark_pairs(&mut points);
+    assert!(points[0].pairs_with_next && !points[2].pairs_with_next);
+    let prepared = Prepared {
+        points,
+        anchors,
+        impacts,
+    };
+    (bodies, slots, prepared)
 }
 
 /// The warm start gathered from the change in momenta is what adding up every contact's
 /// final impulse gives (the sum the relax pass used to build contact by contact).
 #[test]
 fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
-    let (mut bodies, mut slots, mut constraints, anchors) = scene();
+    let (mut bodies, mut slots, mut prepared) = scene();
     let h = 1.0 / 480.0;
     let shared = one_thread(&mut slots);
-    for c in &constraints {
+    for c in &prepared.points {
         c.add_to_warm_start(Portable, &shared);
     }
     slots.integrate_velocities_and_warm_start(&mut bodies, |_, _| {});
@@ -114,8 +133,13 @@ fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
         max_push_out: 3.0,
     };
     for pass in [biased, Pass::Relax] {
-        let contacts = (&mut constraints[..], &anchors[..]);
-        run_pass_inline(Portable, pass, &one_thread(&mut slots), contacts, h);
+        run_pass_inline(
+            Portable,
+            pass,
+            &one_thread(&mut slots),
+            prepared.contacts(),
+            h,
+        );
     }
     slots.store_warm_start(&mut bodies, true);
     let mut summed = slots.clone();
@@ -123,7 +147,7 @@ fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
         slot.warm_start = [F64x4::ZERO; 2];
     }
     let shared = one_thread(&mut summed);
-    for c in &constraints {
+    for c in &prepared.points {
         c.add_to_warm_start(Portable, &shared);
     }
     let mut pushed = 0.0;
@@ -148,16 +172,10 @@ fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
 fn packed_and_unpacked_preparation_compute_the_same_bits() {
     #[cfg(target_arch = "x86_64")]
     if let Some(avx) = Avx2::detect() {
-        let (_, _, portable, portable_anchors) = scene();
-        let (_, _, packed, packed_anchors) = scene_prepared_with(avx);
-        for (x, y) in portable.iter().zip(&packed) {
-            // Debug prints each number exactly (shortest round trip), signed zeros too.
-            assert_eq!(format!("{x:?}"), format!("{y:?}"));
-        }
-        assert_eq!(
-            format!("{portable_anchors:?}"),
-            format!("{packed_anchors:?}")
-        );
+        let (_, _, portable) = scene();
+        let (_, _, packed) = scene_prepared_with(avx);
+        // Debug prints each number exactly (shortest round trip), signed zeros too.
+        assert_eq!(format!("{portable:?}"), format!("{packed:?}"));
     }
 }
 
@@ -173,13 +191,13 @@ fn packed_and_unpacked_passes_compute_the_same_bits() {
             },
             Pass::Relax,
         ];
-        let (_, mut slots_inline, mut inline, anchors) = scene();
-        let (_, mut slots_packed, mut packed, _) = scene();
+        let (_, mut slots_inline, mut inline) = scene();
+        let (_, mut slots_packed, mut packed) = scene();
         for pass in passes {
             let h = 1.0 / 480.0;
-            let contacts = (&mut inline[..], &anchors[..]);
+            let contacts = inline.contacts();
             run_pass_inline(Portable, pass, &one_thread(&mut slots_inline), contacts, h);
-            let contacts = (&mut packed[..], &anchors[..]);
+            let contacts = packed.contacts();
             // SAFETY: the processor has AVX2, as `avx` proves.
             unsafe { run_pass_avx2(avx, pass, &one_thread(&mut slots_packed), contacts, h) };
         }
@@ -187,14 +205,55 @@ fn packed_and_unpacked_passes_compute_the_same_bits() {
             assert_eq!(x.linear_momentum, y.linear_momentum);
             assert_eq!(x.angular_momentum, y.angular_momentum);
         }
-        for (x, y) in inline.iter().zip(&packed) {
+        for (x, y) in inline.points.iter().zip(&packed.points) {
             assert_eq!((x.impulse, x.separation), (y.impulse, y.separation));
         }
         // The passes did something: the momenta moved from where the bodies had them.
-        let (bodies, _, _, _) = scene();
+        let (bodies, _, _) = scene();
         assert_ne!(
             slots_inline.slots[1].linear_momentum.to_vec3(),
             bodies[1].linear_momentum
         );
+    }
+}
+
+/// A split for the threads keeps every point once, in order, and never cuts a manifold.
+#[test]
+fn a_split_covers_every_point_and_cuts_no_manifold() {
+    // Manifolds of 1 to 4 points between distinct pairs of slots.
+    let mut points = Vec::new();
+    for m in 0..50u32 {
+        for _ in 0..=(m % 4) {
+            let point = PointConstraint {
+                slots: [m + 1, m + 2],
+                ..PointConstraint::default()
+            };
+            points.push(point);
+        }
+    }
+    let anchors = vec![PointAnchors::default(); points.len()];
+    let mut impacts = vec![PointImpact::default(); points.len()];
+    for parts in [1, 3, 8, 1000] {
+        let mut copy = points.clone();
+        let contacts = Contacts {
+            points: &mut copy,
+            anchors: &anchors,
+            impacts: &mut impacts,
+        };
+        let split = contacts.split(parts);
+        assert!(split.len() <= parts.min(MAX_PARTS), "{} parts", split.len());
+        let slots: Vec<[u32; 2]> = split
+            .iter()
+            .flat_map(|part| part.points.iter().map(|p| p.slots))
+            .collect();
+        assert_eq!(slots, points.iter().map(|p| p.slots).collect::<Vec<_>>());
+        for pair in split.windows(2) {
+            let (last, first) = (pair[0].points.last(), pair[1].points.first());
+            assert_ne!(last.map(|p| p.slots), first.map(|p| p.slots));
+        }
+        for part in &split {
+            assert_eq!(part.points.len(), part.anchors.len());
+            assert_eq!(part.points.len(), part.impacts.len());
+        }
     }
 }
