@@ -1049,3 +1049,58 @@ fn a_stale_id_cannot_be_joined() {
     let id = world.add_joint(joint(new)).unwrap();
     assert_eq!(world.joint(id).unwrap().body_b, new);
 }
+
+/// A servo that pulls slowly gets its body to the target before the body sleeps: a door
+/// servoed 1 rad round by a 0.5 Hz spring (sleeping on, the defaults) swings about its
+/// target below the sleep speed for seconds, and must still end within 0.01 rad (0.6°) of
+/// the target; once there it sleeps. (The spring's frequency and damping ratio are set for
+/// the door's inertia about its own centre, not about the hinge, 4 times larger: it rings
+/// at about 0.25 Hz and ζ = 0.5, overshooting by 15 %.)
+#[test]
+fn a_slow_servo_reaches_its_target_before_sleeping() {
+    let (mut world, door, hinge) = limited_door(-PI, PI);
+    assert!(world.settings.sleep.enabled);
+    let servo = Servo {
+        target: 1.0,
+        hertz: 0.5,
+        damping_ratio: 1.0,
+        max_force: 500.0,
+    };
+    let drives = JointDrives {
+        servo: Some(servo),
+        ..JointDrives::default()
+    };
+    world.set_joint_drives(hinge, drives).unwrap();
+    for _ in 0..(16.0 / DT) as usize {
+        world.step(DT);
+    }
+    let angle = world.joint(hinge).unwrap().angle;
+    assert!(
+        (angle - 1.0).abs() < 0.01,
+        "the door stopped at {angle} rad"
+    );
+    assert!(world.body(door).sleeping, "the door still moves after 16 s");
+}
+
+/// A servo held short of its target by a limit lets its body sleep: the door's limit at
+/// 0.5 rad stops it on the way to 1 rad.
+#[test]
+fn a_servo_held_by_a_limit_lets_its_body_sleep() {
+    let (mut world, door, hinge) = limited_door(-PI, 0.5);
+    let drives = JointDrives {
+        servo: Some(Servo {
+            target: 1.0,
+            hertz: 0.5,
+            damping_ratio: 1.0,
+            max_force: 500.0,
+        }),
+        ..JointDrives::default()
+    };
+    world.set_joint_drives(hinge, drives).unwrap();
+    for _ in 0..(6.0 / DT) as usize {
+        world.step(DT);
+    }
+    let angle = world.joint(hinge).unwrap().angle;
+    assert!((angle - 0.5).abs() < 0.01, "the door is at {angle} rad");
+    assert!(world.body(door).sleeping, "the door is awake after 6 s");
+}

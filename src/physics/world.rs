@@ -603,6 +603,10 @@ impl World {
         if self.settings.sleep.enabled {
             let awake = self.awake_set.awake(&self.bodies);
             islands::add_quiet_time(&mut self.bodies, awake, dt, &self.settings.sleep);
+            let driven = (self.joints.iter().flatten())
+                .filter(|joint| joint.is_driven())
+                .flat_map(|joint| [joint.body_a.index(), joint.body_b.index()]);
+            islands::hold_driven_awake(&mut self.bodies, driven, &self.settings.sleep);
         }
     }
 

@@ -71,6 +71,30 @@ pub fn add_quiet_time(bodies: &mut [RigidBody], awake: &[u32], dt: f64, settings
     }
 }
 
+/// A body a joint drives (`Joint::is_driven`) is quiet only below this fraction of the
+/// sleep speed. A servo's last approach is an exponential creep: at the sleep speed the
+/// door scene's closer stopped 1.15° short of shut, and a slow motor would stop as well; at
+/// a hundredth of it the creep ends a hundred times nearer, and a drive that is held still
+/// (a stalled motor, a servo against a stop) still lets its bodies sleep.
+const DRIVEN_SLEEP_SPEED_FRACTION: f64 = 0.01;
+
+/// Resets the quiet time of each awake dynamic body among `driven` (the bodies of the driven
+/// joints) that moves faster than `DRIVEN_SLEEP_SPEED_FRACTION` of the sleep speed.
+pub fn hold_driven_awake(
+    bodies: &mut [RigidBody],
+    driven: impl Iterator<Item = usize>,
+    settings: &SleepSettings,
+) {
+    let speed = DRIVEN_SLEEP_SPEED_FRACTION * settings.sleep_speed;
+    for index in driven {
+        let body = &mut bodies[index];
+        let moves = body.kinetic_energy() >= 0.5 * body.mass() * speed * speed;
+        if body.is_awake() && body.is_dynamic() && moves {
+            body.quiet_time = 0.0;
+        }
+    }
+}
+
 /// Puts to sleep or wakes the islands the awake bodies form with the bodies they touch or
 /// are joined to (`links`: the bodies of each joint), by
 /// the quiet times of the steps before (`add_quiet_time`). Only the awake bodies and the

@@ -148,6 +148,19 @@ impl Joint {
         }
     }
 
+    /// Whether a motor or servo pushes its bodies toward a speed or pose of its own: a motor
+    /// with a speed other than zero, a servo with a pull. Either can drive them slower
+    /// than bodies fall asleep, which must not stop them (`islands::hold_driven_awake`).
+    pub fn is_driven(&self) -> bool {
+        let motor = self
+            .motor
+            .is_some_and(|m| m.speed != 0.0 && m.max_force > 0.0);
+        let servo = self
+            .servo
+            .is_some_and(|s| s.hertz > 0.0 && s.max_force > 0.0);
+        motor || servo
+    }
+
     /// Whether the last step's reaction exceeded the joint's breaking load.
     pub fn overloaded(&self) -> bool {
         self.breaking.is_some_and(|b| {
