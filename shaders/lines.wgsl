@@ -13,12 +13,28 @@ struct VertexOut {
     @location(0) color: vec4<f32>,
 };
 
-@vertex
-fn vs_main(@location(0) position: vec3<f32>, @location(1) color: vec4<f32>) -> VertexOut {
+fn project(position: vec3<f32>, color: vec4<f32>) -> VertexOut {
     var out: VertexOut;
     out.clip = globals.view_proj * vec4<f32>(position, 1.0);
     out.color = color;
     return out;
+}
+
+@vertex
+fn vs_main(@location(0) position: vec3<f32>, @location(1) color: vec4<f32>) -> VertexOut {
+    return project(position, color);
+}
+
+// Overlays hidden by the bodies in front of them: each vertex is drawn as if 1 % nearer the
+// eye, so that what lies on a surface (a contact point, a normal's foot, a box's edge)
+// is not hidden by that surface, while what lies behind another body is.
+const NEARER: f32 = 0.01;
+
+@vertex
+fn vs_tested(@location(0) position: vec3<f32>, @location(1) color: vec4<f32>) -> VertexOut {
+    let eye = globals.camera_pos.xyz;
+    let nearer = position + (eye - position) * NEARER;
+    return project(nearer, color);
 }
 
 @fragment

@@ -185,6 +185,31 @@ fn contact_overlay_draws_the_contact_normals_only_when_on() {
     );
 }
 
+/// The bodies in front of a contact hide it, unless in x-ray: in the rain's pile, seen over
+/// the bin's front wall, the contacts inside the pile and behind the wall are hidden by
+/// default, while those on the pile's top still show.
+#[test]
+fn bodies_hide_the_contacts_behind_them_unless_in_x_ray() {
+    let gpu = gpu();
+    let snapshot = simulate("rain", 600);
+    let normal_colour = snapshot.lines.last().expect("the pile touches").color;
+    let x_ray = Overlays {
+        x_ray: true,
+        ..Overlays::default()
+    };
+    let tested = count_near(&render(&gpu, &snapshot, Overlays::default()), normal_colour);
+    let through = count_near(&render(&gpu, &snapshot, x_ray), normal_colour);
+    println!("contact pixels: {tested} with the bodies hiding them, {through} in x-ray");
+    assert!(
+        tested > 30,
+        "only {tested} contact pixels on the pile's top"
+    );
+    assert!(
+        through > 2 * tested,
+        "{through} contact pixels in x-ray, {tested} with the bodies hiding them"
+    );
+}
+
 /// `rigid render` draws what the library draws: its PNG matches the same golden.
 #[test]
 fn the_render_command_writes_the_scene_as_a_png() {

@@ -85,6 +85,9 @@ mod desktop {
             /// Draw velocity vectors.
             #[arg(long)]
             velocities: bool,
+            /// Draw the overlays through the bodies in front of them.
+            #[arg(long)]
+            x_ray: bool,
         },
         /// Run a scene and record it offscreen to an animated GIF, without a window.
         Record {
@@ -162,10 +165,12 @@ mod desktop {
                 height,
                 aabbs,
                 velocities,
+                x_ray,
             }) => {
                 let overlays = Overlays {
                     aabbs,
                     velocities,
+                    x_ray,
                     ..Overlays::default()
                 };
                 render(&scene, steps, (width, height), overlays, &output)

@@ -44,7 +44,10 @@ pub struct Pipelines {
     pub sky: wgpu::RenderPipeline,
     /// Lines hidden by bodies (the grid).
     pub world_lines: wgpu::RenderPipeline,
-    /// Lines drawn over everything (overlays).
+    /// Overlays hidden by the bodies in front of them, drawn slightly nearer the eye so
+    /// that the surface they lie on does not hide them.
+    pub tested_lines: wgpu::RenderPipeline,
+    /// Lines drawn over everything (overlays in x-ray, joints, the drag line).
     pub overlay_lines: wgpu::RenderPipeline,
 }
 
@@ -111,10 +114,10 @@ impl Pipelines {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4],
         })];
-        let line_spec = |label, depth| PipelineSpec {
+        let line_spec = |label, vertex_entry, depth| PipelineSpec {
             label,
             module: &line_module,
-            vertex_entry: "vs_main",
+            vertex_entry,
             fragment_entry: "fs_main",
             buffers: &line_buffers,
             topology: wgpu::PrimitiveTopology::LineList,
@@ -144,9 +147,15 @@ impl Pipelines {
             }),
             world_lines: build(line_spec(
                 "world lines",
+                "vs_main",
                 Some((false, wgpu::CompareFunction::LessEqual)),
             )),
-            overlay_lines: build(line_spec("overlay lines", None)),
+            tested_lines: build(line_spec(
+                "depth-tested overlay lines",
+                "vs_tested",
+                Some((false, wgpu::CompareFunction::LessEqual)),
+            )),
+            overlay_lines: build(line_spec("overlay lines", "vs_main", None)),
             globals_layout,
         }
     }

@@ -40,6 +40,7 @@ const RECORDED_OVERLAYS: Overlays = Overlays {
     joints: true,
     broad_phase: false,
     sleep_tint: false,
+    x_ray: false,
 };
 
 /// What to record: how long, how often and how large.

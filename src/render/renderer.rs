@@ -56,6 +56,10 @@ pub struct Overlays {
     pub broad_phase: bool,
     /// Draw sleeping bodies in `SLEEP_COLOR` (on by default).
     pub sleep_tint: bool,
+    /// Draw the bounding boxes, velocities, contacts and broad phase through the bodies
+    /// in front of them; off (the default), those bodies hide them. Joints and the drag
+    /// line are always drawn on top.
+    pub x_ray: bool,
 }
 
 impl Default for Overlays {
@@ -68,6 +72,7 @@ impl Default for Overlays {
             joints: true,
             broad_phase: false,
             sleep_tint: true,
+            x_ray: false,
         }
     }
 }
@@ -149,6 +154,10 @@ pub struct SceneRenderer {
     draws: Vec<(usize, Range<u32>)>,
     lines: Option<wgpu::Buffer>,
     world_lines: Range<u32>,
+    /// Overlays that bodies hide unless in x-ray.
+    tested_lines: Range<u32>,
+    x_ray: bool,
+    /// Overlays always on top.
     overlay_lines: Range<u32>,
     targets: Option<Targets>,
     viewport: Viewport,
@@ -184,6 +193,8 @@ impl SceneRenderer {
             draws: Vec::new(),
             lines: None,
             world_lines: 0..0,
+            tested_lines: 0..0,
+            x_ray: false,
             overlay_lines: 0..0,
             targets: None,
             viewport: Viewport::full((1, 1)),
@@ -258,6 +269,12 @@ impl SceneRenderer {
             pass.set_vertex_buffer(0, lines.slice(..));
             pass.set_pipeline(&self.pipelines.world_lines);
             pass.draw(self.world_lines.clone(), 0..1);
+            if self.x_ray {
+                pass.set_pipeline(&self.pipelines.overlay_lines);
+            } else {
+                pass.set_pipeline(&self.pipelines.tested_lines);
+            }
+            pass.draw(self.tested_lines.clone(), 0..1);
             pass.set_pipeline(&self.pipelines.overlay_lines);
             pass.draw(self.overlay_lines.clone(), 0..1);
         }
@@ -362,6 +379,15 @@ impl SceneRenderer {
         if frame.overlays.contacts {
             lines.segments(&snapshot.lines);
         }
+        if frame.overlays.broad_phase {
+            for &(min, max) in &snapshot.broad_phase_boxes {
+                lines.aabb(min, max, BROAD_PHASE_COLOR);
+            }
+            for &(min, max) in &snapshot.broad_phase_cells {
+                lines.aabb(min, max, GRID_CELL_COLOR);
+            }
+        }
+        let tested_end = lines.vertices.len() as u32;
         if frame.overlays.joints {
             let shown = |s: &&JointSketch| s.bodies.iter().all(|&i| snapshot.bodies[i].visible);
             for sketch in snapshot.joints.iter().filter(shown) {
@@ -371,17 +397,11 @@ impl SceneRenderer {
                 );
             }
         }
-        if frame.overlays.broad_phase {
-            for &(min, max) in &snapshot.broad_phase_boxes {
-                lines.aabb(min, max, BROAD_PHASE_COLOR);
-            }
-            for &(min, max) in &snapshot.broad_phase_cells {
-                lines.aabb(min, max, GRID_CELL_COLOR);
-            }
-        }
         lines.segments(frame.extra_lines);
         self.world_lines = 0..world_end;
-        self.overlay_lines = world_end..lines.vertices.len() as u32;
+        self.tested_lines = world_end..tested_end;
+        self.x_ray = frame.overlays.x_ray;
+        self.overlay_lines = tested_end..lines.vertices.len() as u32;
         self.lines = (!lines.vertices.is_empty()).then(|| {
             gpu.device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {

@@ -306,6 +306,8 @@ impl Panel {
             ui.checkbox(&mut o.joints, "joints");
             ui.checkbox(&mut o.broad_phase, "broad phase");
             ui.checkbox(&mut o.sleep_tint, "sleeping colour");
+            ui.checkbox(&mut o.x_ray, "x-ray")
+                .on_hover_text("Draw boxes, velocities and contacts through the bodies in front");
         });
     }
 }
