@@ -62,6 +62,8 @@ pub struct Simulation {
     world_generation: u64,
     shapes: ShapeTable,
     shape_ids: Vec<u32>,
+    /// By body index, the bodies' names, shared with the snapshots.
+    names: Arc<Vec<String>>,
     previous: Vec<BodyPose>,
     /// Bodies the scene hides; spawned bodies are always drawn.
     hidden: Vec<bool>,
@@ -119,6 +121,7 @@ impl Simulation {
             world_generation: 0,
             shapes: ShapeTable::default(),
             shape_ids: Vec::new(),
+            names: Arc::new(Vec::new()),
             previous: Vec::new(),
             hidden: Vec::new(),
             materials: Vec::new(),
@@ -328,6 +331,7 @@ impl Simulation {
     /// Copies the state out for the renderer and UI. `step_interval` is the wall time one
     /// step stands for at the current time scale.
     pub fn snapshot(&self, published_at: Instant) -> Snapshot {
+        let contacts = contact_counts(&self.world);
         let bodies = self
             .world
             .bodies()
@@ -341,6 +345,7 @@ impl Simulation {
                 let visible = !hidden && !gone;
                 let mut state = body_state(body, self.previous[i], self.shape_ids[i], visible);
                 state.just_spawned = self.just_spawned(i);
+                (state.touching, state.contact_points) = contacts[i];
                 state
             })
             .collect();
@@ -354,6 +359,7 @@ impl Simulation {
             world_generation: self.world_generation,
             camera: self.camera,
             bodies,
+            names: Arc::clone(&self.names),
             shapes: self.shapes.clone(),
             broad_phase_boxes: broad_phase_boxes(&self.world),
             broad_phase_cells: broad_phase_cells(&self.world),
@@ -492,6 +498,7 @@ impl Simulation {
             shapes: Arc::new(Vec::new()),
         };
         self.shape_ids.clear();
+        self.names = Arc::new(Vec::new());
         self.previous.clear();
         for i in 0..self.world.bodies().len() {
             self.track_body(i);
@@ -516,6 +523,9 @@ impl Simulation {
             }
         };
         let pose = pose_of(body);
+        let names = Arc::make_mut(&mut self.names);
+        names.resize(self.world.bodies().len(), String::new());
+        names[index].clone_from(&body.name);
         if index < self.shape_ids.len() {
             // A spawn in a removed body's slot: a spawn is always drawn, and of its material.
             self.shape_ids[index] = id as u32;
@@ -679,6 +689,22 @@ fn newest_faults(faults: &[Fault]) -> Vec<Fault> {
     faults[faults.len().saturating_sub(MAX_FAULTS_SHOWN)..].to_vec()
 }
 
+/// By body index: the bodies each touched in the last step's manifolds, and the contact
+/// points of those manifolds.
+fn contact_counts(world: &World) -> Vec<(u32, u32)> {
+    let mut counts = vec![(0, 0); world.bodies().len()];
+    for manifold in world.contacts() {
+        let points = manifold.contacts.len() as u32;
+        for body in [manifold.body_a, manifold.body_b] {
+            if let Some(count) = counts.get_mut(body.index()) {
+                count.0 += 1;
+                count.1 += points;
+            }
+        }
+    }
+    counts
+}
+
 fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32, visible: bool) -> BodyState {
     let min = DVec3::new(
         body.world_support(-DVec3::X).x,
@@ -708,6 +734,8 @@ fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32, visible: bool
         just_spawned: false,
         velocity: body.velocity().as_vec3(),
         angular_velocity: body.angular_velocity().as_vec3(),
+        touching: 0,
+        contact_points: 0,
     }
 }
 

@@ -61,6 +61,10 @@ pub struct BodyState {
     pub velocity: Vec3,
     /// rad/s, world axes.
     pub angular_velocity: Vec3,
+    /// Bodies it had contact manifolds with in the last step.
+    pub touching: u32,
+    /// Contact points of those manifolds.
+    pub contact_points: u32,
 }
 
 /// A joint as the viewer draws it: its two bodies (indices into `Snapshot::bodies`), where it
@@ -217,6 +221,8 @@ pub struct Snapshot {
     pub camera: CameraHint,
     /// By body index, as in the world.
     pub bodies: Vec<BodyState>,
+    /// By body index: each body's name (as the scene gave it, or the spawn's).
+    pub names: Arc<Vec<String>>,
     /// The shapes `bodies` refer to.
     pub shapes: ShapeTable,
     /// Broad-phase boxes (min, max) of the bodies awake in the last step.

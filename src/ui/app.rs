@@ -22,6 +22,7 @@ use crate::sim::{
 use crate::ui::aim;
 use crate::ui::display::{Display, UiFrame};
 use crate::ui::drag::Drag;
+use crate::ui::inspector;
 use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel, PanelRequests, screenshot_file};
 use crate::ui::picking::{self, Pick};
 
@@ -305,17 +306,16 @@ impl App {
         let frame_dt = self.clock.tick(now);
         let poses = snapshot.poses_at(snapshot.blend_factor(now));
 
-        let (ui_frame, requests) = self.run_panel(&snapshot);
+        let picked = self.pick_under_cursor(&snapshot, &poses).map(|p| p.body);
+        let inspected = self.drag.map(|d| d.body).or(picked);
+        let (ui_frame, requests) = self.run_panel(&snapshot, inspected);
         let screenshot_asked = requests.screenshot;
         for kind in requests.spawns {
             self.spawn(kind, None);
         }
         let mut commands = requests.commands;
         // Only bodies the mouse can push are highlighted under the cursor.
-        let hovered = self
-            .pick_under_cursor(&snapshot, &poses)
-            .map(|p| p.body)
-            .filter(|&i| snapshot.bodies[i].is_dynamic);
+        let hovered = picked.filter(|&i| snapshot.bodies[i].is_dynamic);
         let mut extra_lines = Vec::new();
         if let (Some(drag), Some(ray)) = (self.drag, self.cursor_ray())
             && let Some(body) = snapshot.bodies.get(drag.body)
@@ -388,7 +388,12 @@ impl App {
     }
 
     /// Builds the panel for this frame; also sets the 3D viewport to the space it leaves.
-    fn run_panel(&mut self, snapshot: &Snapshot) -> (UiFrame, PanelRequests) {
+    /// Runs the panel, and the inspector beside the cursor for body `inspected`.
+    fn run_panel(
+        &mut self,
+        snapshot: &Snapshot,
+        inspected: Option<usize>,
+    ) -> (UiFrame, PanelRequests) {
         let (Some(display), Some(state)) = (self.display.as_ref(), self.egui_state.as_mut()) else {
             return (empty_ui_frame(), PanelRequests::default());
         };
@@ -399,6 +404,8 @@ impl App {
         let mut requests = PanelRequests::default();
         let mut panel_right = 0.0;
         let panel = &mut self.panel;
+        let tip =
+            (inspected.and_then(|i| inspector::inspection(snapshot, i))).zip(self.mouse.position);
         let output = self.egui_ctx.run_ui(raw, |ui| {
             let shown = egui::Panel::left("controls")
                 .resizable(false)
@@ -406,6 +413,10 @@ impl App {
                 .show(ui, |ui| panel.show(ui, snapshot, stats));
             requests = shown.inner;
             panel_right = shown.response.rect.right();
+            if let Some((text, cursor)) = &tip {
+                let points = ui.ctx().pixels_per_point();
+                inspector::show(ui.ctx(), egui::pos2(cursor.x, cursor.y) / points, text);
+            }
         });
         state.handle_platform_output(&display.window, output.platform_output);
         let (width, height) = display.size();

@@ -108,6 +108,8 @@ mod tests {
             just_spawned: false,
             velocity: Vec3::ZERO,
             angular_velocity: Vec3::ZERO,
+            touching: 0,
+            contact_points: 0,
         };
         let Some(Command::ApplyImpulse {
             body: id,

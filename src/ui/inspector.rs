@@ -1,0 +1,89 @@
+//! The inspector: what the viewer shows beside the cursor about the body under it (or the
+//! one being dragged): its name, mass, speed, spin, sleep and contacts.
+
+use crate::sim::snapshot::{BodyState, Snapshot};
+
+/// The lines shown for body `index` of `snapshot`, or None for a body it does not hold.
+pub fn inspection(snapshot: &Snapshot, index: usize) -> Option<String> {
+    let body = snapshot.bodies.get(index)?;
+    let name = match snapshot.names.get(index) {
+        Some(name) if !name.is_empty() => name.clone(),
+        _ => format!("body {index}"),
+    };
+    let motion = if body.is_dynamic {
+        let state = if body.sleeping { "asleep" } else { "awake" };
+        format!(
+            "{:.3} kg, {state}\n{:.3} m/s, {:.3} rad/s",
+            body.mass,
+            body.velocity.length(),
+            body.angular_velocity.length()
+        )
+    } else {
+        "static".to_string()
+    };
+    Some(format!("{name}\n{motion}\n{}", contacts(body)))
+}
+
+/// The contacts line: a sleeping body's contacts leave the solver until it wakes, so it
+/// has none to count.
+fn contacts(body: &BodyState) -> String {
+    if body.sleeping {
+        return "contacts not solved while asleep".to_string();
+    }
+    let bodies = if body.touching == 1 { "body" } else { "bodies" };
+    let points = if body.contact_points == 1 {
+        "point"
+    } else {
+        "points"
+    };
+    format!(
+        "touching {} {bodies} ({} contact {points})",
+        body.touching, body.contact_points
+    )
+}
+
+/// Draws `text` in a small frame just below and right of `cursor` (egui points).
+pub fn show(ctx: &egui::Context, cursor: egui::Pos2, text: &str) {
+    egui::Area::new(egui::Id::unique("inspector"))
+        .order(egui::Order::Tooltip)
+        .interactable(false)
+        .fixed_pos(cursor + egui::vec2(16.0, 16.0))
+        .show(ctx, |ui| {
+            egui::Frame::popup(ui.style()).show(ui, |ui| ui.label(text));
+        });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::simulation::Simulation;
+
+    /// In the stack of ten boxes on a floor, before it falls asleep (a sleeping pair's
+    /// manifold leaves the solver, and then shows no contacts): a middle box touches the box
+    /// below and the one above, the top box only the one below, and the floor the bottom
+    /// box; each resting face holds four contact points.
+    #[test]
+    fn the_inspector_names_a_stacked_box_and_its_two_neighbours() {
+        let mut sim = Simulation::new("stack").unwrap();
+        for _ in 0..30 {
+            sim.step();
+        }
+        let snapshot = sim.snapshot(web_time::Instant::now());
+        let index = |name: &str| {
+            (snapshot.names.iter())
+                .position(|n| n == name)
+                .unwrap_or_else(|| panic!("no body {name} in {:?}", snapshot.names))
+        };
+        let middle = inspection(&snapshot, index("box_4")).unwrap();
+        assert!(middle.starts_with("box_4\n600.000 kg, awake\n"), "{middle}");
+        assert!(
+            middle.contains("touching 2 bodies (8 contact points)"),
+            "{middle}"
+        );
+        let top = inspection(&snapshot, index("box_9")).unwrap();
+        assert!(top.contains("touching 1 body (4 contact points)"), "{top}");
+        let floor = inspection(&snapshot, index("floor")).unwrap();
+        assert!(floor.contains("static\ntouching 1 body"), "{floor}");
+        assert_eq!(inspection(&snapshot, snapshot.bodies.len()), None);
+    }
+}
