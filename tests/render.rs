@@ -124,7 +124,7 @@ fn bounce_stack_spin_and_rain_match_goldens() {
 /// The scenes of joints and kinematic bodies: the cradle's pulled ball, the chain with its
 /// paddle, which only moves if the simulation drives its script, the rope bridge's
 /// sagging deck with its hinges drawn, the car on its wheels' hinges before its hill, the
-/// door with the ball thrown at it, and the ragdolls falling.
+/// door with the ball thrown at it, the ragdolls falling, and the pachinko's windmills.
 #[test]
 fn joint_scenes_match_goldens() {
     let gpu = gpu();
@@ -135,6 +135,7 @@ fn joint_scenes_match_goldens() {
         "car",
         "door",
         "ragdolls",
+        "windmills",
     ];
     for scene in scenes {
         check_scene_golden(&gpu, scene);

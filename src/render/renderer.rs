@@ -29,6 +29,10 @@ pub const PALETTE: [[f32; 3]; 6] = [
 /// Fixed bodies (gamma-encoded); its brightness steps with the shape so that touching
 /// fixed parts stay apart.
 pub const STATIC_COLOR: [f32; 3] = [0.60, 0.63, 0.68];
+/// Bodies moved by a script or a set velocity (gamma-encoded): a dark steel blue, apart from
+/// the fixed grey and from every palette entry, so that the machinery shows against the
+/// board it turns on.
+pub const KINEMATIC_COLOR: [f32; 3] = [0.20, 0.33, 0.52];
 /// Distinct from every palette entry: a saturated blue-violet.
 pub const SLEEP_COLOR: [f32; 3] = [0.35, 0.35, 0.95];
 /// A body spawned a moment ago (gamma-encoded): a saturated magenta, far from every palette
@@ -419,6 +423,8 @@ fn body_color(frame: &FrameInput, index: usize) -> [f32; 3] {
         SPAWN_COLOR
     } else if body.sleeping && frame.overlays.sleep_tint {
         SLEEP_COLOR
+    } else if body.is_kinematic {
+        KINEMATIC_COLOR
     } else if !body.is_dynamic {
         static_color(body.shape_id)
     } else {

@@ -44,6 +44,7 @@ const BUILTIN_SCENES: &[BuiltinScene] = builtin![
     "car",
     "door",
     "ragdolls",
+    "windmills",
 ];
 
 /// Every built-in scene, in menu order.

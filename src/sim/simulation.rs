@@ -729,6 +729,7 @@ fn body_state(body: &RigidBody, previous: BodyPose, shape_id: u32, visible: bool
             0.0
         },
         is_dynamic: body.is_dynamic(),
+        is_kinematic: body.is_kinematic(),
         sleeping: body.sleeping,
         visible,
         just_spawned: false,

@@ -51,6 +51,8 @@ pub struct BodyState {
     pub mass: f32,
     /// False for static bodies and for those taken out of the world (removed or isolated).
     pub is_dynamic: bool,
+    /// Moved by a script or a set velocity (drawn in `render::KINEMATIC_COLOR`).
+    pub is_kinematic: bool,
     /// Asleep: drawn in the sleep colour.
     pub sleeping: bool,
     /// False for bodies the scene hides (simulated, not drawn, not pickable).

@@ -103,6 +103,7 @@ mod tests {
             center_of_mass: Vec3::ZERO,
             mass: 2.0,
             is_dynamic: true,
+            is_kinematic: false,
             sleeping: false,
             visible: true,
             just_spawned: false,
