@@ -10,14 +10,17 @@ pub fn inspection(snapshot: &Snapshot, index: usize) -> Option<String> {
         Some(name) if !name.is_empty() => name.clone(),
         _ => format!("body {index}"),
     };
+    let speeds = format!(
+        "{:.3} m/s, {:.3} rad/s",
+        body.velocity.length(),
+        body.angular_velocity.length()
+    );
     let motion = if body.is_dynamic {
         let state = if body.sleeping { "asleep" } else { "awake" };
-        format!(
-            "{:.3} kg, {state}\n{:.3} m/s, {:.3} rad/s",
-            body.mass,
-            body.velocity.length(),
-            body.angular_velocity.length()
-        )
+        format!("{:.3} kg, {state}\n{speeds}", body.mass)
+    } else if body.is_kinematic {
+        // Moved by its script, whatever pushes on it: its mass is not a number to read.
+        format!("kinematic\n{speeds}")
     } else {
         "static".to_string()
     };
@@ -85,5 +88,22 @@ mod tests {
         let floor = inspection(&snapshot, index("floor")).unwrap();
         assert!(floor.contains("static\ntouching 1 body"), "{floor}");
         assert_eq!(inspection(&snapshot, snapshot.bodies.len()), None);
+    }
+
+    /// A windmill is kinematic, not static: the inspector says so and shows the rate its
+    /// script turns it at, 3 rad/s (`scenes/windmills.ron`).
+    #[test]
+    fn the_inspector_shows_a_windmill_turning() {
+        let mut sim = Simulation::new("windmills").unwrap();
+        sim.step();
+        let snapshot = sim.snapshot(web_time::Instant::now());
+        let index = (snapshot.names.iter())
+            .position(|n| n == "left_windmill")
+            .expect("a left windmill");
+        let windmill = inspection(&snapshot, index).unwrap();
+        assert!(
+            windmill.starts_with("left_windmill\nkinematic\n0.000 m/s, 3.000 rad/s\n"),
+            "{windmill}"
+        );
     }
 }

@@ -88,8 +88,10 @@ pub fn hold_driven_awake(
     let speed = DRIVEN_SLEEP_SPEED_FRACTION * settings.sleep_speed;
     for index in driven {
         let body = &mut bodies[index];
-        let moves = body.kinetic_energy() >= 0.5 * body.mass() * speed * speed;
-        if body.is_awake() && body.is_dynamic() && moves {
+        if !(body.is_awake() && body.is_dynamic()) {
+            continue;
+        }
+        if body.kinetic_energy() >= 0.5 * body.mass() * speed * speed {
             body.quiet_time = 0.0;
         }
     }

@@ -302,8 +302,9 @@ fn solve_joint(joint: &mut Joint, [a, b]: [&mut BodyView; 2], pass: RowPass) {
         }
         JointKind::Hinge => {
             joint.angle = hinge_angle(joint, a, b);
-            let drives = Drives::of(joint, pass);
             let axis = Geometry::axis(joint, a);
+            let turning = hinge_turning(axis, [a, b], [g.ra, g.rb]);
+            let drives = Drives::of(joint, pass, turning);
             axial_rows([a, b], axis, joint.angle, drives, impulses, pass);
             let error = axis.cross(b.orientation * joint.local_axis_b);
             solve_angular([a, b], axis, error, &mut impulses.angular, pass);
@@ -376,7 +377,7 @@ fn solve_cone_twist(
             pass,
         );
     }
-    let drives = Drives::of(joint, pass);
+    let drives = Drives::of(joint, pass, 1.0);
     axial_rows([a, b], cone.twist_axis, cone.twist, drives, impulses, pass);
 }
 
@@ -389,13 +390,19 @@ struct Drives {
 }
 
 impl Drives {
-    fn of(joint: &Joint, pass: RowPass) -> Drives {
+    /// `turning`: how many times the inertia the servo's row meets the bodies turn with
+    /// (`hinge_turning`; 1 along a slider).
+    fn of(joint: &Joint, pass: RowPass, turning: f64) -> Drives {
         let motor = joint.motor.map(|m| Bound::Motor {
             speed: m.speed,
             limit: m.max_force * pass.h,
         });
         let servo = joint.servo.filter(|s| s.hertz > 0.0).map(|s| {
-            let softness = Softness::new(s.hertz, s.damping_ratio, pass.h);
+            // The row's spring is its own mass times ω², its damper 2ζ times its mass times
+            // ω: both scaled by √turning, the spring is the user's frequency and damping
+            // ratio on the inertia the bodies really turn with.
+            let scale = turning.sqrt();
+            let softness = Softness::new(s.hertz * scale, s.damping_ratio * scale, pass.h);
             let limit = s.max_force * pass.h;
             (Bound::Servo { softness, limit }, s.target)
         });
@@ -404,6 +411,34 @@ impl Drives {
             servo,
             limits: joint.limits,
         }
+    }
+}
+
+/// How many times the inertia the bodies turn with about a hinge exceeds what its angular
+/// row meets, the bodies' inertias about their centres (at least 1). A body turning about
+/// a hinge off its centre swings its mass around too: m d² more, with d the distance from
+/// the axis to its centre (a door on its edge: 4 times its own), the hinge's point rows
+/// holding it. Each body is taken as turning about the hinge with the other held, exact
+/// when one of them does not move.
+fn hinge_turning(axis: DVec3, [a, b]: [&BodyView; 2], levers: [DVec3; 2]) -> f64 {
+    let about_centres = |body: &BodyView| axis.dot(body.inv_inertia * axis);
+    let about_hinge = |body: &BodyView, lever: DVec3| {
+        // 1 / (I + m d²) from 1/I and 1/m: zero for a body that does not turn.
+        let (inv_inertia, inv_mass) = (about_centres(body), body.inv_mass);
+        let d2 = lever.cross(axis).length_squared();
+        let denominator = inv_mass + inv_inertia * d2;
+        if denominator > 0.0 {
+            inv_inertia * inv_mass / denominator
+        } else {
+            inv_inertia
+        }
+    };
+    let row = about_centres(a) + about_centres(b);
+    let hinge = about_hinge(a, levers[0]) + about_hinge(b, levers[1]);
+    if hinge > 0.0 {
+        (row / hinge).max(1.0)
+    } else {
+        1.0
     }
 }
 
@@ -469,7 +504,7 @@ fn solve_slider(
         ra: g.ra + d,
         rb: g.rb,
     };
-    let drives = Drives::of(joint, pass);
+    let drives = Drives::of(joint, pass, 1.0);
     if let Some(bound) = drives.motor {
         along.solve([a, b], 0.0, bound, &mut impulses.motor, pass);
     }

@@ -113,6 +113,25 @@ impl<'a> Contacts<'a> {
         }
     }
 
+    /// The first `mid` points, and the others.
+    fn split_at(self, mid: usize) -> (Contacts<'a>, Contacts<'a>) {
+        let (points, points_rest) = self.points.split_at_mut(mid);
+        let (anchors, anchors_rest) = self.anchors.split_at(mid);
+        let (impacts, impacts_rest) = self.impacts.split_at_mut(mid);
+        (
+            Contacts {
+                points,
+                anchors,
+                impacts,
+            },
+            Contacts {
+                points: points_rest,
+                anchors: anchors_rest,
+                impacts: impacts_rest,
+            },
+        )
+    }
+
     /// The points cut into about `parts` runs of near-equal length that never cut a run of
     /// points between the same two bodies (a manifold), at most `MAX_PARTS`.
     pub(super) fn split(self, parts: usize) -> SmallVec<[Contacts<'a>; MAX_PARTS]> {
@@ -124,15 +143,9 @@ impl<'a> Contacts<'a> {
             while end < rest.points.len() && rest.points[end].same_bodies(&rest.points[end - 1]) {
                 end += 1;
             }
-            let (points, points_rest) = std::mem::take(&mut rest.points).split_at_mut(end);
-            let (anchors, anchors_rest) = rest.anchors.split_at(end);
-            let (impacts, impacts_rest) = std::mem::take(&mut rest.impacts).split_at_mut(end);
-            (rest.points, rest.anchors, rest.impacts) = (points_rest, anchors_rest, impacts_rest);
-            split.push(Contacts {
-                points,
-                anchors,
-                impacts,
-            });
+            let (part, tail) = rest.split_at(end);
+            split.push(part);
+            rest = tail;
         }
         split
     }
