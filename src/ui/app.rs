@@ -8,7 +8,7 @@ use web_time::Instant;
 use glam::{DVec3, Vec2};
 use image::RgbaImage;
 use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, Touch, TouchPhase, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
@@ -23,8 +23,9 @@ use crate::ui::aim;
 use crate::ui::display::{Display, UiFrame};
 use crate::ui::drag::Drag;
 use crate::ui::inspector;
-use crate::ui::panel::{FrameStats, PANEL_WIDTH, Panel, PanelRequests, screenshot_file};
+use crate::ui::panel::{self, FrameStats, Panel, PanelRequests, screenshot_file};
 use crate::ui::picking::{self, Pick};
+use crate::ui::touch::{Gesture, Touches};
 
 /// How to start the viewer.
 pub struct AppOptions {
@@ -119,10 +120,13 @@ struct App {
     egui_ctx: egui::Context,
     egui_state: Option<egui_winit::State>,
     panel: Panel,
+    /// Whether the panel is shown (`panel::show_or_open_button`).
+    panel_open: Option<bool>,
     camera: OrbitCamera,
     camera_generation: Option<u64>,
     viewport: Viewport,
     mouse: Mouse,
+    touches: Touches,
     drag: Option<Drag>,
     clock: FrameClock,
     started: Instant,
@@ -147,10 +151,12 @@ impl App {
             egui_ctx: egui::Context::default(),
             egui_state: None,
             panel: Panel::default(),
+            panel_open: None,
             camera,
             camera_generation: None,
             viewport: Viewport::full((1, 1)),
             mouse: Mouse::default(),
+            touches: Touches::default(),
             drag: None,
             clock: FrameClock::default(),
             started: Instant::now(),
@@ -256,6 +262,24 @@ impl App {
             }
         }
         self.mouse.position = Some(position);
+    }
+
+    /// A touch, as the mouse gestures it stands for (`touch`).
+    fn on_touch(&mut self, touch: Touch, over_panel: bool) {
+        let position = Vec2::new(touch.location.x as f32, touch.location.y as f32);
+        let over_panel = over_panel && touch.phase == TouchPhase::Started;
+        for gesture in self
+            .touches
+            .on_touch(touch.id, touch.phase, position, over_panel)
+        {
+            match gesture {
+                Gesture::Point(at) => self.on_cursor_moved(at),
+                Gesture::Press => self.on_mouse_button(MouseButton::Left, ElementState::Pressed),
+                Gesture::Release => self.on_mouse_button(MouseButton::Left, ElementState::Released),
+                Gesture::Zoom(steps) => self.camera.zoom(steps),
+                Gesture::Pan(delta) => self.camera.pan(delta, self.viewport.height),
+            }
+        }
     }
 
     fn on_key(&mut self, key: &Key) {
@@ -403,16 +427,11 @@ impl App {
         };
         let mut requests = PanelRequests::default();
         let mut panel_right = 0.0;
-        let panel = &mut self.panel;
+        let (panel, open) = (&mut self.panel, &mut self.panel_open);
         let tip =
             (inspected.and_then(|i| inspector::inspection(snapshot, i))).zip(self.mouse.position);
         let output = self.egui_ctx.run_ui(raw, |ui| {
-            let shown = egui::Panel::left("controls")
-                .resizable(false)
-                .exact_size(PANEL_WIDTH)
-                .show(ui, |ui| panel.show(ui, snapshot, stats));
-            requests = shown.inner;
-            panel_right = shown.response.rect.right();
+            (requests, panel_right) = panel::show_or_open_button(ui, panel, open, snapshot, stats);
             if let Some((text, cursor)) = &tip {
                 let points = ui.ctx().pixels_per_point();
                 inspector::show(ui.ctx(), egui::pos2(cursor.x, cursor.y) / points, text);
@@ -541,6 +560,7 @@ impl ApplicationHandler for App {
                 };
                 self.camera.zoom(steps);
             }
+            WindowEvent::Touch(touch) => self.on_touch(touch, consumed),
             WindowEvent::KeyboardInput { event, .. } if !consumed && event.state.is_pressed() => {
                 self.on_key(&event.logical_key)
             }

@@ -12,3 +12,4 @@ pub mod inspector;
 pub mod panel;
 pub mod picking;
 pub mod plots;
+pub mod touch;

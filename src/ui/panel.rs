@@ -11,6 +11,41 @@ use crate::ui::plots;
 /// Width of the control panel, egui points.
 pub const PANEL_WIDTH: f32 = 290.0;
 
+/// Below this width, points, the panel starts closed: on a phone it would hide most of the
+/// scene. A button opens it, and one in it closes it again.
+pub const NARROW_WIDTH: f32 = 2.5 * PANEL_WIDTH;
+
+/// The panel on the left, or, when closed, a button that opens it. `open` is None until
+/// the first frame decides it from the window's width. Returns what the panel asked for
+/// and its right edge, points (0 when closed).
+pub fn show_or_open_button(
+    ui: &mut egui::Ui,
+    panel: &mut Panel,
+    open: &mut Option<bool>,
+    snapshot: &Snapshot,
+    stats: FrameStats,
+) -> (PanelRequests, f32) {
+    let is_open = open.get_or_insert_with(|| ui.ctx().content_rect().width() >= NARROW_WIDTH);
+    if !*is_open {
+        egui::Area::new(egui::Id::unique("open panel"))
+            .fixed_pos(egui::pos2(8.0, 8.0))
+            .show(ui.ctx(), |ui| {
+                if ui.button("» Controls").clicked() {
+                    *is_open = true;
+                }
+            });
+        return (PanelRequests::default(), 0.0);
+    }
+    let shown = egui::Panel::left("controls")
+        .resizable(false)
+        .exact_size(PANEL_WIDTH)
+        .show(ui, |ui| panel.show(ui, snapshot, stats));
+    if shown.inner.hide {
+        *is_open = false;
+    }
+    (shown.inner, shown.response.rect.right())
+}
+
 /// Where the panel's buttons save (and load) the world and the session's recording, relative
 /// to the directory the viewer was started in.
 #[cfg(not(target_arch = "wasm32"))]
@@ -42,6 +77,8 @@ pub struct PanelRequests {
     /// The Screenshot button was pressed: the viewer saves this frame (see `screenshot_file`)
     /// and reports back with `Panel::set_screenshot_note`.
     pub screenshot: bool,
+    /// The button beside the title was pressed: fold the panel away.
+    pub hide: bool,
 }
 
 /// The values the widgets edit. They are copied from the snapshot whenever the world is
@@ -100,6 +137,8 @@ impl Panel {
         egui::ScrollArea::vertical().show(ui, |ui| {
             ui.horizontal(|ui| {
                 ui.heading("rigid");
+                let hide = ui.small_button("«").on_hover_text("Hide the controls");
+                requests.hide = hide.clicked();
                 left_world(ui, snapshot);
             });
             // Errors first: a stopped simulation must be noticed.
@@ -577,5 +616,56 @@ mod tests {
             std::path::Path::new("rigid-screenshot-303.png")
         );
         assert_ne!(screenshot_file(1), screenshot_file(2));
+    }
+
+    /// One frame of the panel (or its button) in a window of `size` points, with `events`;
+    /// the panel's right edge, points.
+    fn frame(
+        ctx: &egui::Context,
+        size: egui::Vec2,
+        open: &mut Option<bool>,
+        events: Vec<egui::Event>,
+    ) -> f32 {
+        let sim = crate::sim::simulation::Simulation::new("falling_box").unwrap();
+        let snapshot = sim.snapshot(web_time::Instant::now());
+        let raw = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, size)),
+            events,
+            ..Default::default()
+        };
+        let (mut panel, mut right) = (Panel::default(), f32::NAN);
+        let stats = FrameStats {
+            frames_per_second: 60.0,
+        };
+        let _ = ctx.run_ui(raw, |ui| {
+            (_, right) = show_or_open_button(ui, &mut panel, open, &snapshot, stats);
+        });
+        right
+    }
+
+    /// On a phone (390 × 844 points) the panel starts closed and leaves the whole width to
+    /// the scene; a tap on its button opens it. On 1280 × 720 it starts open.
+    #[test]
+    fn the_panel_starts_closed_on_a_phone_and_a_tap_opens_it() {
+        let phone = egui::vec2(390.0, 844.0);
+        let (ctx, mut open) = (egui::Context::default(), None);
+        assert_eq!(frame(&ctx, phone, &mut open, vec![]), 0.0);
+        assert_eq!(open, Some(false));
+        let at = egui::pos2(30.0, 18.0);
+        let button = |pressed| egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        };
+        // The button is laid out on the first frame, and can be hit from the next.
+        frame(&ctx, phone, &mut open, vec![egui::Event::PointerMoved(at)]);
+        frame(&ctx, phone, &mut open, vec![button(true)]);
+        frame(&ctx, phone, &mut open, vec![button(false)]);
+        assert_eq!(open, Some(true), "the tap opened the panel");
+        assert_eq!(frame(&ctx, phone, &mut open, vec![]), PANEL_WIDTH);
+        let (ctx, mut open) = (egui::Context::default(), None);
+        let desktop = egui::vec2(1280.0, 720.0);
+        assert_eq!(frame(&ctx, desktop, &mut open, vec![]), PANEL_WIDTH);
     }
 }
