@@ -23,9 +23,9 @@ const PANEL_WIDTH = 290;
 let passed = 0;
 let failed = 0;
 
-async function check(name, extraFlags, body) {
+async function check(name, extraFlags, body, viewport = VIEWPORT) {
   const browser = await chromium.launch({ executablePath: "/usr/bin/chromium", args: [...FLAGS, ...extraFlags] });
-  const page = await browser.newPage({ viewport: VIEWPORT });
+  const page = await browser.newPage({ viewport });
   const log = [];
   page.on("console", (m) => log.push(`${m.type()}: ${m.text().slice(0, 400)}`));
   page.on("pageerror", (e) => log.push(`pageerror: ${e.message}`));
@@ -59,12 +59,13 @@ async function waitFor(page, what, accept, seconds = 90) {
   }
 }
 
-/// Pixels of the 3D view (right of the panel) that `accept(r, g, b)` picks.
-async function countPixels(page, file, accept) {
+/// Pixels of the 3D view (right of the panel) that `accept(r, g, b)` picks; `from` and `to`
+/// bound the columns counted.
+async function countPixels(page, file, accept, from = PANEL_WIDTH, to = Infinity) {
   const png = PNG.sync.read(await page.screenshot({ path: join(shots, file) }));
   let count = 0;
   for (let y = 0; y < png.height; y++) {
-    for (let x = PANEL_WIDTH; x < png.width; x++) {
+    for (let x = from; x < Math.min(png.width, to); x++) {
       const i = 4 * (y * png.width + x);
       if (accept(png.data[i], png.data[i + 1], png.data[i + 2])) count++;
     }
@@ -111,6 +112,57 @@ await check("pachinko", [], async (page) => {
   if (pixels < 200) throw new Error(`no balls drawn: ${pixels} body-coloured pixels`);
   console.log(`     pachinko: ${s.rigidBodies} bodies, ${pixels} body-coloured pixels`);
 });
+
+// A phone: the panel starts folded and the scene fills the width; two fingers spreading
+// apart zoom in (the asleep pyramid, which does not move, covers more pixels), one finger
+// orbits (most of the view changes), and a tap on "» Controls" unfolds the panel.
+const PHONE = { width: 390, height: 844 };
+await check("phone", [], async (page) => {
+  const cdp = await page.context().newCDPSession(page);
+  await cdp.send("Emulation.setTouchEmulationEnabled", { enabled: true, maxTouchPoints: 5 });
+  await page.goto(`${base}?scene=pyramid`);
+  await waitFor(page, "the pyramid running", (s) => s.rigidState === "running" && Number(s.rigidSteps) >= 30);
+  // The panel's background is a dark grey (egui's dark theme); the sky and the floor are pale.
+  const dark = (r, g, b) => Math.max(r, g, b) < 45;
+  const panelArea = PANEL_WIDTH * PHONE.height;
+  const folded = await countPixels(page, "phone-folded.png", dark, 0, PANEL_WIDTH);
+  if (folded > 0.05 * panelArea) throw new Error(`the panel is not folded: ${folded} dark pixels`);
+  const touches = async (type, points) => {
+    await cdp.send("Input.dispatchTouchEvent", {
+      type,
+      touchPoints: points.map(([x, y], id) => ({ x, y, id, radiusX: 1, radiusY: 1, force: 1 })),
+    });
+    await page.waitForTimeout(50);
+  };
+  const drawn = () => countPixels(page, "phone-before-pinch.png", bodyColour, 0);
+  const before = await drawn();
+  await touches("touchStart", [[150, 500], [240, 500]]);
+  for (let k = 1; k <= 10; k++) await touches("touchMove", [[150 - 6 * k, 500], [240 + 6 * k, 500]]);
+  await touches("touchEnd", []);
+  await page.waitForTimeout(500);
+  const after = await countPixels(page, "phone-pinched.png", bodyColour, 0);
+  if (!(after > 1.5 * before)) throw new Error(`the pinch did not zoom in: ${before} then ${after} body pixels`);
+  const image = async (file) => PNG.sync.read(await page.screenshot({ path: join(shots, file) }));
+  const still = await image("phone-before-orbit.png");
+  await touches("touchStart", [[200, 120]]);
+  for (let k = 1; k <= 10; k++) await touches("touchMove", [[200 + 12 * k, 120]]);
+  await touches("touchEnd", []);
+  await page.waitForTimeout(500);
+  const orbited = await image("phone-orbited.png");
+  let changed = 0;
+  for (let i = 0; i < still.data.length; i += 4) {
+    const d = Math.abs(still.data[i] - orbited.data[i]) + Math.abs(still.data[i + 1] - orbited.data[i + 1]);
+    if (d > 30) changed++;
+  }
+  const share = changed / (still.width * still.height);
+  if (share < 0.05) throw new Error(`one finger did not orbit: ${(100 * share).toFixed(1)} % of the view changed`);
+  await touches("touchStart", [[30, 18]]);
+  await touches("touchEnd", []);
+  await page.waitForTimeout(500);
+  const unfolded = await countPixels(page, "phone-unfolded.png", dark, 0, PANEL_WIDTH);
+  if (unfolded < 0.5 * panelArea) throw new Error(`the tap did not unfold the panel: ${unfolded} dark pixels`);
+  console.log(`     phone: ${folded} then ${unfolded} dark pixels where the panel goes; pinch ${before} → ${after} body pixels; orbit changed ${(100 * share).toFixed(0)} %`);
+}, PHONE);
 
 await check("unknown-scene", [], async (page) => {
   await page.goto(`${base}?scene=no_such_scene`);
