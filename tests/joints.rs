@@ -472,21 +472,28 @@ fn a_critically_damped_servo_reaches_its_angle() {
     assert!((last - 1.0).abs() < 1e-3, "{last} rad after 3 s");
 }
 
+/// The period of angles (one per step) swinging about `target`, from the first and last of
+/// their crossings of it (interpolated within the step), and how many crossings there were.
+fn swing_period(angles: &[f64], target: f64) -> (f64, usize) {
+    let crossings: Vec<f64> = (1..angles.len())
+        .filter(|&k| (angles[k - 1] - target) * (angles[k] - target) < 0.0)
+        .map(|k| {
+            let (x0, x1) = (angles[k - 1] - target, angles[k] - target);
+            (k as f64 + x0 / (x0 - x1)) * DT
+        })
+        .collect();
+    let (first, last) = (crossings[0], *crossings.last().unwrap());
+    let period = 2.0 * (last - first) / (crossings.len() - 1) as f64;
+    (period, crossings.len())
+}
+
 /// Undamped (ζ = 0), a 2 Hz servo swings the wheel about its target with a period of
 /// 1/2 s (the wheel's centre is on the axis, so the servo's spring is I ω² with the
 /// wheel's own I): within 2 %, measured over the crossings of the target in 3 s.
 #[test]
 fn an_undamped_servo_swings_at_its_frequency() {
     let angles = servo_angles(0.5, 2.0, 0.0, 1000.0, 0.0, 180);
-    let crossings: Vec<f64> = (1..angles.len())
-        .filter(|&k| (angles[k - 1] - 0.5) * (angles[k] - 0.5) < 0.0)
-        .map(|k| {
-            let (x0, x1) = (angles[k - 1] - 0.5, angles[k] - 0.5);
-            (k as f64 + x0 / (x0 - x1)) * DT
-        })
-        .collect();
-    let (first, last) = (crossings[0], *crossings.last().unwrap());
-    let period = 2.0 * (last - first) / (crossings.len() - 1) as f64;
+    let (period, _) = swing_period(&angles, 0.5);
     let amplitude = angles[120..]
         .iter()
         .map(|a| (a - 0.5).abs())
@@ -1111,16 +1118,8 @@ fn door_servo_angles(hertz: f64, damping_ratio: f64, seconds: f64) -> Vec<f64> {
 #[test]
 fn a_servo_swings_a_door_at_its_frequency_about_the_hinge() {
     let angles = door_servo_angles(1.0, 0.0, 4.0);
-    let crossings: Vec<f64> = (1..angles.len())
-        .filter(|&k| (angles[k - 1] - 1.0) * (angles[k] - 1.0) < 0.0)
-        .map(|k| {
-            let (x0, x1) = (angles[k - 1] - 1.0, angles[k] - 1.0);
-            (k as f64 + x0 / (x0 - x1)) * DT
-        })
-        .collect();
-    assert!(crossings.len() >= 4, "{} crossings", crossings.len());
-    let (first, last) = (crossings[0], *crossings.last().unwrap());
-    let period = 2.0 * (last - first) / (crossings.len() - 1) as f64;
+    let (period, crossings) = swing_period(&angles, 1.0);
+    assert!(crossings >= 4, "{crossings} crossings");
     println!("undamped 1 Hz servo on a door: period {period:.5} s of 1");
     assert!((period - 1.0).abs() < 0.02, "period {period} s");
 }

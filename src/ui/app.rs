@@ -8,7 +8,7 @@ use web_time::Instant;
 use glam::{DVec3, Vec2};
 use image::RgbaImage;
 use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, MouseScrollDelta, Touch, TouchPhase, WindowEvent};
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, Touch, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
@@ -267,7 +267,6 @@ impl App {
     /// A touch, as the mouse gestures it stands for (`touch`).
     fn on_touch(&mut self, touch: Touch, over_panel: bool) {
         let position = Vec2::new(touch.location.x as f32, touch.location.y as f32);
-        let over_panel = over_panel && touch.phase == TouchPhase::Started;
         for gesture in self
             .touches
             .on_touch(touch.id, touch.phase, position, over_panel)

@@ -303,8 +303,7 @@ fn solve_joint(joint: &mut Joint, [a, b]: [&mut BodyView; 2], pass: RowPass) {
         JointKind::Hinge => {
             joint.angle = hinge_angle(joint, a, b);
             let axis = Geometry::axis(joint, a);
-            let turning = hinge_turning(axis, [a, b], [g.ra, g.rb]);
-            let drives = Drives::of(joint, pass, turning);
+            let drives = Drives::of(joint, pass, || hinge_turning(axis, [a, b], [g.ra, g.rb]));
             axial_rows([a, b], axis, joint.angle, drives, impulses, pass);
             let error = axis.cross(b.orientation * joint.local_axis_b);
             solve_angular([a, b], axis, error, &mut impulses.angular, pass);
@@ -377,7 +376,7 @@ fn solve_cone_twist(
             pass,
         );
     }
-    let drives = Drives::of(joint, pass, 1.0);
+    let drives = Drives::of(joint, pass, || 1.0);
     axial_rows([a, b], cone.twist_axis, cone.twist, drives, impulses, pass);
 }
 
@@ -391,8 +390,8 @@ struct Drives {
 
 impl Drives {
     /// `turning`: how many times the inertia the servo's row meets the bodies turn with
-    /// (`hinge_turning`; 1 along a slider).
-    fn of(joint: &Joint, pass: RowPass, turning: f64) -> Drives {
+    /// (`hinge_turning`; 1 along a slider), asked only of a joint with a servo.
+    fn of(joint: &Joint, pass: RowPass, turning: impl FnOnce() -> f64) -> Drives {
         let motor = joint.motor.map(|m| Bound::Motor {
             speed: m.speed,
             limit: m.max_force * pass.h,
@@ -401,7 +400,7 @@ impl Drives {
             // The row's spring is its own mass times ω², its damper 2ζ times its mass times
             // ω: both scaled by √turning, the spring is the user's frequency and damping
             // ratio on the inertia the bodies really turn with.
-            let scale = turning.sqrt();
+            let scale = turning().sqrt();
             let softness = Softness::new(s.hertz * scale, s.damping_ratio * scale, pass.h);
             let limit = s.max_force * pass.h;
             (Bound::Servo { softness, limit }, s.target)
@@ -504,7 +503,7 @@ fn solve_slider(
         ra: g.ra + d,
         rb: g.rb,
     };
-    let drives = Drives::of(joint, pass, 1.0);
+    let drives = Drives::of(joint, pass, || 1.0);
     if let Some(bound) = drives.motor {
         along.solve([a, b], 0.0, bound, &mut impulses.motor, pass);
     }
