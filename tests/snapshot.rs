@@ -133,6 +133,14 @@ fn bad_snapshots_are_refused_with_the_file_and_body_named() {
     let error = edited(|s| s.settings.solver.substeps = 4_000_000_000).unwrap_err();
     assert!(error.to_string().contains("solver.substeps"), "{error}");
 
+    let error = edited(|s| s.settings.solver.deep_overlap = -1.0).unwrap_err();
+    assert!(
+        error
+            .to_string()
+            .contains("solver.deep_overlap must be finite and non-negative, got -1"),
+        "{error}"
+    );
+
     let error = edited(|s| s.settings.classic.theta = -1.0).unwrap_err();
     assert!(error.to_string().contains("classic.theta"), "{error}");
 

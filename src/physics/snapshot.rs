@@ -317,6 +317,7 @@ fn check_settings(settings: &WorldSettings) -> Result<(), String> {
         ("solver.damping_ratio", soft.damping_ratio),
         ("solver.joint_damping_ratio", soft.joint_damping_ratio),
         ("solver.max_push_out", soft.max_push_out),
+        ("solver.deep_overlap", soft.deep_overlap),
         ("solver.restitution_threshold", soft.restitution_threshold),
         ("classic.resting_speed", classic.resting_speed),
         ("sleep.sleep_speed", sleep.sleep_speed),

@@ -33,6 +33,11 @@ pub struct SolverBody {
     pub linear_momentum: F64x4,
     pub angular_momentum: F64x4,
     pub inv_mass: f64,
+    /// The linear momentum by which this substep's deep contacts push the body out
+    /// (`soft::solve`, `Pass::Biased`): **integrate positions** moves the body by it, at
+    /// most `max_push_out` fast, and its velocity keeps none of it. In the padding after
+    /// `inv_mass`, beside what the contacts read anyway.
+    pub push_out: DVec3,
     pub position: F64x4,
     pub orientation: [F64x4; 3],
     /// The linear and angular impulse the body's contacts give it at the next warm start.
@@ -45,7 +50,29 @@ pub struct SolverBody {
     pub joints_warm_start: [F64x4; 2],
 }
 
+// The push-out fills the padding after `inv_mass`: the record is no larger for it.
+const _: () = assert!(std::mem::size_of::<SolverBody>() == 13 * 32);
+
 impl SolverBody {
+    /// The velocity of the push-out (see `push_out`).
+    #[inline(always)]
+    pub fn push_out_velocity(&self) -> DVec3 {
+        self.push_out * self.inv_mass
+    }
+
+    /// Moves the body by this substep's push-out, `h` long and at most `max_speed` fast,
+    /// and clears it.
+    #[inline(always)]
+    fn move_out(&mut self, body: &mut RigidBody, max_speed: f64, h: f64) {
+        let velocity = self.push_out_velocity();
+        self.push_out = DVec3::ZERO;
+        if body.is_kinematic() {
+            return; // its path is scripted
+        }
+        let speed = velocity.length();
+        body.position += velocity * (h * (max_speed / speed).min(1.0));
+    }
+
     /// Writes the momenta the contacts changed back to the body.
     #[inline(always)]
     fn write_momenta(&self, body: &mut RigidBody) {
@@ -80,6 +107,7 @@ const FIXED: SolverBody = SolverBody {
     warm_start: [F64x4::ZERO; 2],
     before_contacts: [F64x4::ZERO; 2],
     joints_warm_start: [F64x4::ZERO; 2],
+    push_out: DVec3::ZERO,
 };
 
 /// Slots of the awake bodies, kept between steps so that no step allocates.
@@ -181,17 +209,22 @@ impl SolverBodies {
     }
 
     /// **Integrate positions**: writes the momenta back to each awake body, lets `integrate`
-    /// move it, and reads its new pose: one loop over the bodies.
+    /// move it, moves it by its push-out (at most `max_push_out` fast over the substep `h`),
+    /// and reads its new pose: one loop over the bodies.
     #[inline(always)]
     pub fn integrate_positions(
         &mut self,
         bodies: &mut [RigidBody],
+        (max_push_out, h): (f64, f64),
         mut integrate: impl FnMut(&mut RigidBody),
     ) {
         for (slot, &index) in self.slots[1..].iter_mut().zip(&self.awake) {
             let body = &mut bodies[index as usize];
             slot.write_momenta(body);
             integrate(body);
+            if slot.push_out != DVec3::ZERO {
+                slot.move_out(body, max_push_out, h);
+            }
             slot.position = F64x4::from_vec3(body.position);
             slot.orientation = columns(&body.orientation);
         }
@@ -262,6 +295,7 @@ fn gathered_at_rest(body: &RigidBody) -> SolverBody {
         warm_start: [F64x4::ZERO; 2],
         before_contacts: [F64x4::ZERO; 2],
         joints_warm_start: [F64x4::ZERO; 2],
+        push_out: DVec3::ZERO,
     }
 }
 
@@ -339,6 +373,14 @@ impl<'a> SharedBodies<'a> {
         if let Some(body) = self.moving(push.slot) {
             body.linear_momentum = (l.load(body.linear_momentum) + push.linear).store();
             body.angular_momentum = (l.load(body.angular_momentum) + push.angular).store();
+        }
+    }
+
+    /// Adds an impulse to a moving body's push-out (`SolverBody::push_out`; see `add`).
+    #[inline(always)]
+    pub fn add_push_out(&self, slot: u32, impulse: DVec3) {
+        if let Some(body) = self.moving(slot) {
+            body.push_out += impulse;
         }
     }
 

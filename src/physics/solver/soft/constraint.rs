@@ -201,6 +201,21 @@ impl PointConstraint {
         bodies.add(l, to_b);
     }
 
+    /// Adds to the bodies' push-out (`SolverBody::push_out`) the least impulse along the
+    /// normal that has them move apart at `speed` in it, the linear motion only: the
+    /// push-out moves bodies and must not spin them up.
+    pub(super) fn move_apart(&self, bodies: &SharedBodies, speed: f64) {
+        let [slot_a, slot_b] = self.slots;
+        let (a, b) = (bodies.get(slot_a), bodies.get(slot_b));
+        let normal = self.normal();
+        let apart = normal.dot(b.push_out_velocity() - a.push_out_velocity());
+        let impulse = (speed - apart) / (a.inv_mass + b.inv_mass);
+        if impulse > 0.0 {
+            bodies.add_push_out(slot_a, -normal * impulse);
+            bodies.add_push_out(slot_b, normal * impulse);
+        }
+    }
+
     /// Adds the impulse the contact holds to its bodies' next warm start.
     #[inline(always)]
     pub(super) fn add_to_warm_start<L: Lanes>(&self, l: L, bodies: &SharedBodies) {

@@ -19,9 +19,12 @@
 //!
 //! Softness: a penetration is not removed in one substep (which makes stacks jitter) but
 //! pulled out like a critically-damped spring of `contact_hertz` Hz, capped at
-//! `max_push_out` m/s. A contact that is still open (positive separation: speculative) lets
-//! the bodies close the gap in this substep and no more, which stops fast bodies short of
-//! the surface without adding energy.
+//! `max_push_out` m/s. An overlap much deeper than a contact's load explains (bodies
+//! created inside each other) is instead pushed out by moving the bodies apart, at most
+//! `max_push_out` fast, while its velocity is solved rigidly (`Pass::Biased`). A contact
+//! that is still open (positive separation: speculative) lets the bodies close the gap in
+//! this substep and no more, which stops fast bodies short of the surface without adding
+//! energy.
 //!
 //! The solver works on the bodies' momenta (the report's state): velocities are derived
 //! from them at every use, so a rotating body keeps its angular momentum exactly.
@@ -94,6 +97,12 @@ pub struct SoftSolverSettings {
     pub damping_ratio: f64,
     /// Fastest speed at which overlap is pushed out, m/s.
     pub max_push_out: f64,
+    /// Overlap deeper than this beyond what a contact's load explains (bodies created
+    /// inside each other), m, is pushed out by moving the bodies, at most `max_push_out`
+    /// fast each, rather than through their velocities, which carried the push on through a
+    /// crowd of such bodies and flung them apart. Bullet's split impulse starts at the same
+    /// depth.
+    pub deep_overlap: f64,
     /// Approach speeds below this do not bounce (resting contacts), m/s.
     pub restitution_threshold: f64,
     /// Stiffness of the joints' spring, Hz: how fast a joint pulls its bodies back together
@@ -113,6 +122,7 @@ impl Default for SoftSolverSettings {
             contact_hertz: 60.0,
             damping_ratio: 10.0,
             max_push_out: 3.0,
+            deep_overlap: 0.04,
             restitution_threshold: 1.0,
             joint_hertz: JOINT_HERTZ,
             joint_damping_ratio: JOINT_DAMPING_RATIO,
@@ -249,6 +259,7 @@ fn step_inline<L: Lanes>(
     let biased = Pass::Biased {
         softness: Softness::of_contacts(ctx.settings, h),
         max_push_out: ctx.settings.max_push_out,
+        deep_overlap: deep_overlap(contacts, ctx.settings.deep_overlap),
     };
     let joints_biased = RowPass {
         softness: Some(Softness::of_joints(ctx.settings, h)),
@@ -280,7 +291,8 @@ fn step_inline<L: Lanes>(
         solve::for_each_contact(&mut slots.slots, &mut contacts, colors, biased, h);
         slots.limit_spins(bodies, &guards.list, max_spin);
         timed(ctx.timed, &mut integrate_seconds, || {
-            slots.integrate_positions(bodies, |body| {
+            let push_out = (ctx.settings.max_push_out, h);
+            slots.integrate_positions(bodies, push_out, |body| {
                 integrate::integrate_pose(body, h, ctx.integrator)
             })
         });
@@ -305,6 +317,12 @@ fn step_inline<L: Lanes>(
         bodies[index as usize].clear_accumulators();
     }
     SoftStep { integrate_seconds }
+}
+
+/// `deep_overlap` when a contact begins the step deeper (see `Pass::Biased`).
+fn deep_overlap(contacts: &[ContactInput], deep_overlap: f64) -> Option<f64> {
+    let deep = contacts.iter().any(|c| c.separation < -deep_overlap);
+    deep.then_some(deep_overlap)
 }
 
 /// The most a body in contact may turn in one substep, rad: a contact cannot follow a body

@@ -53,6 +53,14 @@ impl Softness {
         }
     }
 
+    /// How deep the spring holds a contact that carries `impulse` (N·s per substep) against
+    /// a body of effective mass `mass`: where its push balances the impulse's leak, as a
+    /// loaded contact settles (the static deflection, load / mass · g/ω²).
+    #[inline(always)]
+    fn depth_under_load(&self, impulse: f64, mass: f64) -> f64 {
+        self.impulse_scale * impulse / (mass * self.mass_scale * self.bias_rate)
+    }
+
     /// The velocity bias per metre (or radian) of error, 1/s.
     pub(crate) fn bias_rate(&self) -> f64 {
         self.bias_rate
@@ -86,10 +94,14 @@ const PARTS_PER_THREAD: usize = 4;
 /// through memory; a pass over the bodies is far smaller.
 #[derive(Clone, Copy)]
 pub(super) enum Pass {
-    /// Solves with the soft position bias.
+    /// Solves with the soft position bias; a point deeper than `deep_overlap` beyond what
+    /// its load explains is solved rigidly and pushes its bodies apart by moving them
+    /// (`PointConstraint::move_apart`), not through their velocities. `deep_overlap` is
+    /// None in a step whose contacts all began shallower.
     Biased {
         softness: Softness,
         max_push_out: f64,
+        deep_overlap: Option<f64>,
     },
     /// Measures the separations at the poses the substep moved to, then solves without
     /// bias, removing the velocity the bias added.
@@ -154,6 +166,26 @@ pub(super) fn run_pass_inline<L: Lanes>(
     contacts: Contacts,
     h: f64,
 ) {
+    // A second copy of the loop for the steps with deep points: the check alone cost the
+    // passes of every other step 5 % more instructions.
+    match pass {
+        Pass::Biased {
+            deep_overlap: Some(_),
+            ..
+        } => run_points::<L, true>(l, pass, bodies, contacts, h),
+        _ => run_points::<L, false>(l, pass, bodies, contacts, h),
+    }
+}
+
+/// `run_pass_inline`'s loop; `DEEP` when a biased pass has deep points to look for.
+#[inline(always)]
+fn run_points<L: Lanes, const DEEP: bool>(
+    l: L,
+    pass: Pass,
+    bodies: &SharedBodies,
+    contacts: Contacts,
+    h: f64,
+) {
     let Contacts {
         points,
         anchors,
@@ -165,7 +197,12 @@ pub(super) fn run_pass_inline<L: Lanes>(
         Pass::Biased {
             softness,
             max_push_out,
-        } => Some((softness, max_push_out)),
+            deep_overlap,
+        } => Some(Bias {
+            softness,
+            max_push_out,
+            deep_overlap: deep_overlap.unwrap_or(f64::INFINITY),
+        }),
         Pass::Relax => None,
     };
     let relax = bias.is_none();
@@ -183,9 +220,9 @@ pub(super) fn run_pass_inline<L: Lanes>(
         match (group, group_impacts) {
             ([first, second], [first_impact, second_impact]) => {
                 let pair = [(first, first_impact), (second, second_impact)];
-                solve_two(l, bodies, pair, h, bias)
+                solve_two::<L, DEEP>(l, bodies, pair, h, bias)
             }
-            ([only], [impact]) => solve(l, bodies, (only, impact), h, bias),
+            ([only], [impact]) => solve::<L, DEEP>(l, bodies, (only, impact), h, bias),
             _ => unreachable!("a group is one contact or two"),
         }
     }
@@ -194,36 +231,59 @@ pub(super) fn run_pass_inline<L: Lanes>(
 /// `solve` on two independent contacts, step by step side by side, so that the processor
 /// works on both chains of dependent operations at once.
 #[inline(always)]
-fn solve_two<L: Lanes>(
+fn solve_two<L: Lanes, const DEEP: bool>(
     l: L,
     bodies: &SharedBodies,
     [(x, impact_x), (y, impact_y)]: [(&mut PointConstraint, &mut PointImpact); 2],
     h: f64,
-    bias: Option<(Softness, f64)>,
+    bias: Option<Bias>,
 ) {
     let (speeds_x, speeds_y) = (x.speeds(l, bodies), y.speeds(l, bodies));
-    let normal_x = solve_normal((x, impact_x), speeds_x[0], h, bias);
-    let normal_y = solve_normal((y, impact_y), speeds_y[0], h, bias);
+    let normal_x = solve_normal::<DEEP>(bodies, (x, impact_x), speeds_x[0], h, bias);
+    let normal_y = solve_normal::<DEEP>(bodies, (y, impact_y), speeds_y[0], h, bias);
     let friction_x = solve_friction(x, tangent_speeds(x, speeds_x, normal_x));
     let friction_y = solve_friction(y, tangent_speeds(y, speeds_y, normal_y));
     x.apply(l, bodies, [normal_x, friction_x[0], friction_x[1]]);
     y.apply(l, bodies, [normal_y, friction_y[0], friction_y[1]]);
 }
 
+/// The soft position bias of a biased pass.
+#[derive(Clone, Copy)]
+struct Bias {
+    softness: Softness,
+    max_push_out: f64,
+    deep_overlap: f64,
+}
+
 /// One contact's share of a pass: normal (soft or rigid) then friction, applied together.
-/// `bias` is the softness and push-out cap when solving with position bias, None to relax.
+/// `bias` is the softness and push-out limits when solving with position bias, None to
+/// relax.
 #[inline(always)]
-fn solve<L: Lanes>(
+fn solve<L: Lanes, const DEEP: bool>(
     l: L,
     bodies: &SharedBodies,
     (c, impact): (&mut PointConstraint, &mut PointImpact),
     h: f64,
-    bias: Option<(Softness, f64)>,
+    bias: Option<Bias>,
 ) {
     let speeds = c.speeds(l, bodies);
-    let normal = solve_normal((c, impact), speeds[0], h, bias);
+    let normal = solve_normal::<DEEP>(bodies, (c, impact), speeds[0], h, bias);
     let [t1, t2] = solve_friction(c, tangent_speeds(c, speeds, normal));
     c.apply(l, bodies, [normal, t1, t2]);
+}
+
+/// Whether `c`, deeper than `deep_overlap`, is so beyond what its load explains (see
+/// `Pass::Biased`); if so, moves its bodies apart. Out of line: the passes' hot loop
+/// meets it only for overlaps that no step of a settled scene makes.
+#[cold]
+#[inline(never)]
+fn moved_apart_if_deep(bodies: &SharedBodies, c: &PointConstraint, bias: Bias) -> bool {
+    let load_depth = (bias.softness).depth_under_load(c.impulse.normal, c.normal_mass);
+    let deep = c.separation + load_depth < -bias.deep_overlap;
+    if deep {
+        c.move_apart(bodies, bias.max_push_out);
+    }
+    deep
 }
 
 /// The speeds along the tangents once the normal impulse `normal` is added.
@@ -243,22 +303,31 @@ fn tangent_speeds(c: &PointConstraint, speeds: [f64; 3], normal: f64) -> [f64; 2
 
 /// The normal impulse this pass adds, at the relative normal speed `normal_speed`.
 #[inline(always)]
-fn solve_normal(
+fn solve_normal<const DEEP: bool>(
+    bodies: &SharedBodies,
     (c, impact): (&mut PointConstraint, &mut PointImpact),
     normal_speed: f64,
     h: f64,
-    bias: Option<(Softness, f64)>,
+    bias: Option<Bias>,
 ) -> f64 {
     let separation = c.separation;
     let (velocity_bias, mass_scale, impulse_scale) = if separation > 0.0 {
         // Speculative: allow the gap to close within this substep, no further.
         (separation / h, 1.0, 0.0)
-    } else if let Some((soft, max_push_out)) = bias {
-        (
-            at_least(soft.bias_rate * separation, -max_push_out),
-            soft.mass_scale,
-            soft.impulse_scale,
-        )
+    } else if let Some(bias) = bias {
+        // A deep overlap that no load explains (bodies created inside each other) is pushed
+        // out by moving the bodies: its spring's push, passed from body to body through a
+        // crowd, flung them apart at many times `max_push_out`.
+        if DEEP && separation < -bias.deep_overlap && moved_apart_if_deep(bodies, c, bias) {
+            (0.0, 1.0, 0.0)
+        } else {
+            let soft = bias.softness;
+            (
+                at_least(soft.bias_rate * separation, -bias.max_push_out),
+                soft.mass_scale,
+                soft.impulse_scale,
+            )
+        }
     } else {
         (0.0, 1.0, 0.0)
     };

@@ -131,6 +131,7 @@ fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
     let biased = Pass::Biased {
         softness: softness(h),
         max_push_out: 3.0,
+        deep_overlap: None,
     };
     for pass in [biased, Pass::Relax] {
         run_pass_inline(
@@ -188,6 +189,7 @@ fn packed_and_unpacked_passes_compute_the_same_bits() {
             Pass::Biased {
                 softness,
                 max_push_out: 3.0,
+                deep_overlap: None,
             },
             Pass::Relax,
         ];
