@@ -488,6 +488,27 @@ fn bad_forces_and_camera_are_named() {
     );
 }
 
+/// `camera.follow` names a body the scene makes; a name it does not make, or makes twice,
+/// is refused naming the field.
+#[test]
+fn the_followed_body_must_exist_once() {
+    let follow = |name: &str| {
+        format!("camera: (eye: (0.0, 2.0, 9.0), target: (0.0, 0.0, 0.0), follow: \"{name}\"),")
+    };
+    let ball = r#"name: "ball", shape: Sphere(radius: 1.0)"#;
+    let scene = scene::parse(&scene_with(&follow("ball"), ball), FILE).unwrap();
+    assert_eq!(scene.followed_body().unwrap(), Some(1));
+    let message = parse_error(&scene_with(&follow("bal"), ball));
+    assert_eq!(
+        message,
+        "scenes/test.ron: field 'camera.follow': no body is named 'bal'"
+    );
+    let two = r#"name: "ball", shape: Sphere(radius: 1.0),
+        repeat: Grid(count: (2, 1, 1), spacing: (3.0, 0.0, 0.0))"#;
+    let message = parse_error(&scene_with(&follow("ball"), two));
+    assert!(message.contains("'ball_0', 'ball_1'"), "{message}");
+}
+
 #[test]
 fn unknown_scene_field_and_trailing_text_are_rejected() {
     let message = parse_error(&scene_with(

@@ -137,9 +137,38 @@ mod tests {
         let hint = CameraHint {
             eye: Vec3::new(5.0, 4.0, 7.0),
             target: Vec3::new(0.0, 1.0, 0.0),
+            follow: None,
         };
         let camera = OrbitCamera::from_hint(&hint);
         assert!(camera.eye().distance(hint.eye) < 1e-4);
+    }
+
+    /// Whether `point` projects inside a 16:9 view of `camera`.
+    fn in_view(camera: &OrbitCamera, point: Vec3) -> bool {
+        let clip = camera.view_projection(16.0 / 9.0) * point.extend(1.0);
+        let ndc = clip.truncate() / clip.w;
+        clip.w > 0.0 && ndc.x.abs() < 1.0 && ndc.y.abs() < 1.0
+    }
+
+    /// The car scene's camera follows its chassis (`camera.follow`): after 12 s, with the
+    /// car stopped at the wall 29 m on, past the hill and the crates, the chassis is in view
+    /// from the moved camera, and not from the scene's fixed one.
+    #[test]
+    fn the_car_scene_keeps_its_chassis_in_view() {
+        let mut sim = crate::sim::Simulation::new("car").unwrap();
+        while sim.ticks() as f64 * sim.settings().dt < 12.0 {
+            sim.step();
+        }
+        let snapshot = sim.snapshot(web_time::Instant::now());
+        let poses: Vec<_> = snapshot.bodies.iter().map(|b| b.pose).collect();
+        let chassis = snapshot.names.iter().position(|n| n == "chassis").unwrap();
+        let at = poses[chassis].position;
+        assert!(at.x > 20.0, "the car drove on: {at}");
+        let fixed = OrbitCamera::from_hint(&snapshot.camera);
+        let mut moved = fixed;
+        moved.target += snapshot.camera.follow_shift(&poses);
+        assert!(!in_view(&fixed, at), "{at}");
+        assert!(in_view(&moved, at), "{at}");
     }
 
     #[test]
@@ -147,6 +176,7 @@ mod tests {
         let camera = OrbitCamera::from_hint(&CameraHint {
             eye: Vec3::new(0.0, 3.0, 8.0),
             target: Vec3::ZERO,
+            follow: None,
         });
         let ray = camera.ray(Vec2::new(400.0, 300.0), Vec2::new(800.0, 600.0));
         let to_target = (camera.target - ray.origin).normalize();

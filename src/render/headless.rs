@@ -88,8 +88,9 @@ impl OffscreenPainter {
         overlays: Overlays,
     ) -> Result<RgbaImage, String> {
         let size = self.target.size;
-        let camera = OrbitCamera::from_hint(&snapshot.camera);
         let poses: Vec<_> = snapshot.bodies.iter().map(|b| b.pose).collect();
+        let mut camera = OrbitCamera::from_hint(&snapshot.camera);
+        camera.target += snapshot.camera.follow_shift(&poses);
         let frame = FrameInput {
             snapshot,
             poses: &poses,

@@ -60,9 +60,9 @@ pub struct Overlays {
     pub broad_phase: bool,
     /// Draw sleeping bodies in `SLEEP_COLOR` (on by default).
     pub sleep_tint: bool,
-    /// Draw the bounding boxes, velocities, contacts and broad phase through the bodies
-    /// in front of them; off (the default), those bodies hide them. Joints and the drag
-    /// line are always drawn on top.
+    /// Draw the bounding boxes, velocities, contacts, broad phase and joints through the
+    /// bodies in front of them; off (the default), those bodies hide them (a ragdoll's
+    /// joints inside its limbs cluttered the view). The drag line is always drawn on top.
     pub x_ray: bool,
 }
 
@@ -391,7 +391,6 @@ impl SceneRenderer {
                 lines.aabb(min, max, GRID_CELL_COLOR);
             }
         }
-        let tested_end = lines.vertices.len() as u32;
         if frame.overlays.joints {
             let shown = |s: &&JointSketch| s.bodies.iter().all(|&i| snapshot.bodies[i].visible);
             for sketch in snapshot.joints.iter().filter(shown) {
@@ -401,6 +400,7 @@ impl SceneRenderer {
                 );
             }
         }
+        let tested_end = lines.vertices.len() as u32;
         lines.segments(frame.extra_lines);
         self.world_lines = 0..world_end;
         self.tested_lines = world_end..tested_end;

@@ -86,6 +86,12 @@ impl Scene {
         Ok((descs, scripts))
     }
 
+    /// The index (in `build_world` order) of the body the camera follows, if any
+    /// (`Camera::follow`).
+    pub fn followed_body(&self) -> Result<Option<usize>, SceneError> {
+        self.body_to_follow(&self.body_descs()?)
+    }
+
     /// For each body the scene makes (in `build_world` order), whether it is hidden.
     pub fn hidden_bodies(&self) -> Vec<bool> {
         self.per_body(|body| body.hidden)

@@ -67,13 +67,16 @@ impl Default for SceneSettings {
 }
 
 /// Where a viewer should place its camera at start: a hint, not physics.
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Camera {
     /// The camera's position, m.
     pub eye: DVec3,
     /// The point it looks at, m; must differ from `eye`.
     pub target: DVec3,
+    /// A body's name: the camera then moves with that body (a car driving away), keeping
+    /// where it looks from relative to it. The viewer can turn this off.
+    pub follow: Option<String>,
 }
 
 impl Default for Camera {
@@ -81,6 +84,7 @@ impl Default for Camera {
         Camera {
             eye: DVec3::new(0.0, 5.0, 15.0),
             target: DVec3::new(0.0, 1.0, 0.0),
+            follow: None,
         }
     }
 }

@@ -18,6 +18,18 @@ pub(crate) struct SceneJoint {
 }
 
 impl Scene {
+    /// The index of the body the camera follows (`Camera::follow`) among `bodies` (the
+    /// scene's `body_descs`), if it follows one.
+    pub(crate) fn body_to_follow(&self, bodies: &[BodyDesc]) -> Result<Option<usize>, SceneError> {
+        let Some(name) = &self.camera.follow else {
+            return Ok(None);
+        };
+        let names = BodyNames::of(bodies);
+        let body = names.resolve("camera.follow", name);
+        body.map(|id| Some(id.0 as usize))
+            .map_err(|e| e.in_scene(&self.origin))
+    }
+
     /// Every joint of the scene, chains expanded, between the bodies `bodies` (the scene's
     /// `body_descs`, whose slot k a fresh world numbers `BodyId(k)`).
     pub(crate) fn joint_descs(&self, bodies: &[BodyDesc]) -> Result<Vec<SceneJoint>, SceneError> {

@@ -22,6 +22,7 @@ pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
     // world.
     let bodies = scene.body_descs()?;
     scene.joint_descs(&bodies)?;
+    scene.body_to_follow(&bodies)?;
     Ok(scene)
 }
 

@@ -88,7 +88,11 @@ mod tests {
             (Vec3::new(0.0, 3.0, 8.0), Vec3::new(0.0, 30.0, 0.0)),
             (Vec3::new(40.0, 90.0, -5.0), Vec3::new(20.0, 60.0, 10.0)),
         ] {
-            let camera = OrbitCamera::from_hint(&CameraHint { eye, target });
+            let camera = OrbitCamera::from_hint(&CameraHint {
+                eye,
+                target,
+                follow: None,
+            });
             let aim = camera.ray(VIEW * VIEW_AIM, VIEW);
             let spot = spawn_position(SpawnKind::Sphere, &aim, &camera, &snapshot, &poses);
             assert!(picking::pick(&aim, &snapshot, &poses).is_none());

@@ -124,6 +124,8 @@ struct App {
     panel_open: Option<bool>,
     camera: OrbitCamera,
     camera_generation: Option<u64>,
+    /// How far the followed body had moved at the last frame (`CameraHint::follow_shift`).
+    follow_shift: glam::Vec3,
     viewport: Viewport,
     mouse: Mouse,
     touches: Touches,
@@ -140,6 +142,7 @@ impl App {
         let camera = OrbitCamera::from_hint(&CameraHint {
             eye: glam::Vec3::new(0.0, 3.0, 8.0),
             target: glam::Vec3::ZERO,
+            follow: None,
         });
         App {
             options,
@@ -154,6 +157,7 @@ impl App {
             panel_open: None,
             camera,
             camera_generation: None,
+            follow_shift: glam::Vec3::ZERO,
             viewport: Viewport::full((1, 1)),
             mouse: Mouse::default(),
             touches: Touches::default(),
@@ -314,6 +318,16 @@ impl App {
         }
     }
 
+    /// Moves the camera by as much as the followed body moved since the last frame, while
+    /// the panel lets it: the user's orbit, pan and zoom stay as they set them.
+    fn follow(&mut self, snapshot: &Snapshot, poses: &[BodyPose]) {
+        let shift = snapshot.camera.follow_shift(poses);
+        if self.panel.follow_camera {
+            self.camera.target += shift - self.follow_shift;
+        }
+        self.follow_shift = shift;
+    }
+
     /// Runs the panel, applies the drag spring and draws one frame.
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
         self.sim.pump();
@@ -323,11 +337,13 @@ impl App {
         if self.camera_generation != Some(snapshot.world_generation) {
             self.camera = OrbitCamera::from_hint(&snapshot.camera);
             self.camera_generation = Some(snapshot.world_generation);
+            self.follow_shift = glam::Vec3::ZERO;
             self.drag = None;
         }
         let now = Instant::now();
         let frame_dt = self.clock.tick(now);
         let poses = snapshot.poses_at(snapshot.blend_factor(now));
+        self.follow(&snapshot, &poses);
 
         let picked = self.pick_under_cursor(&snapshot, &poses).map(|p| p.body);
         let inspected = self.drag.map(|d| d.body).or(picked);

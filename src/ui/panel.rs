@@ -86,6 +86,8 @@ pub struct PanelRequests {
 pub struct Panel {
     /// The overlay switches; the viewer draws with these.
     pub overlays: Overlays,
+    /// Whether the camera moves with the body the scene names (`CameraHint::follow`).
+    pub follow_camera: bool,
     scene: String,
     gravity: [f64; 3],
     restitution: f64,
@@ -107,6 +109,7 @@ impl Default for Panel {
     fn default() -> Self {
         Panel {
             overlays: Overlays::default(),
+            follow_camera: true,
             scene: String::new(),
             gravity: [0.0; 3],
             restitution: 0.0,
@@ -156,7 +159,7 @@ impl Panel {
             materials_section(ui, snapshot, &mut requests.commands);
             joints_section(ui, snapshot, &mut requests.commands);
             ui.separator();
-            self.overlay_section(ui);
+            self.overlay_section(ui, snapshot);
             ui.separator();
             counters(ui, snapshot, stats);
             ui.separator();
@@ -335,7 +338,12 @@ impl Panel {
         }
     }
 
-    fn overlay_section(&mut self, ui: &mut egui::Ui) {
+    fn overlay_section(&mut self, ui: &mut egui::Ui, snapshot: &Snapshot) {
+        let followed = (snapshot.camera.follow).and_then(|f| snapshot.names.get(f.index));
+        if let Some(name) = followed {
+            ui.checkbox(&mut self.follow_camera, format!("camera follows {name}"))
+                .on_hover_text("Move the camera with this body, as the scene asks");
+        }
         let o = &mut self.overlays;
         ui.horizontal_wrapped(|ui| {
             ui.checkbox(&mut o.grid, "grid");
@@ -345,8 +353,9 @@ impl Panel {
             ui.checkbox(&mut o.joints, "joints");
             ui.checkbox(&mut o.broad_phase, "broad phase");
             ui.checkbox(&mut o.sleep_tint, "sleeping colour");
-            ui.checkbox(&mut o.x_ray, "x-ray")
-                .on_hover_text("Draw boxes, velocities and contacts through the bodies in front");
+            ui.checkbox(&mut o.x_ray, "x-ray").on_hover_text(
+                "Draw boxes, velocities, contacts and joints through the bodies in front",
+            );
         });
     }
 }
