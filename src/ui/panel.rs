@@ -627,29 +627,41 @@ mod tests {
         assert_ne!(screenshot_file(1), screenshot_file(2));
     }
 
-    /// One frame of the panel (or its button) in a window of `size` points, with `events`;
-    /// the panel's right edge, points.
-    fn frame(
-        ctx: &egui::Context,
-        size: egui::Vec2,
-        open: &mut Option<bool>,
-        events: Vec<egui::Event>,
-    ) -> f32 {
-        let sim = crate::sim::simulation::Simulation::new("falling_box").unwrap();
-        let snapshot = sim.snapshot(web_time::Instant::now());
-        let raw = egui::RawInput {
-            screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, size)),
-            events,
-            ..Default::default()
-        };
-        let (mut panel, mut right) = (Panel::default(), f32::NAN);
-        let stats = FrameStats {
-            frames_per_second: 60.0,
-        };
-        let _ = ctx.run_ui(raw, |ui| {
-            (_, right) = show_or_open_button(ui, &mut panel, open, &snapshot, stats);
-        });
-        right
+    /// A panel in its egui context, showing the falling box.
+    struct Harness {
+        ctx: egui::Context,
+        snapshot: Snapshot,
+        open: Option<bool>,
+    }
+
+    impl Harness {
+        fn new() -> Harness {
+            let sim = crate::sim::simulation::Simulation::new("falling_box").unwrap();
+            Harness {
+                ctx: egui::Context::default(),
+                snapshot: sim.snapshot(web_time::Instant::now()),
+                open: None,
+            }
+        }
+
+        /// One frame of the panel (or its button) in a window of `size` points, with
+        /// `events`; the panel's right edge, points.
+        fn frame(&mut self, size: egui::Vec2, events: Vec<egui::Event>) -> f32 {
+            let raw = egui::RawInput {
+                screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, size)),
+                events,
+                ..Default::default()
+            };
+            let (mut panel, mut right) = (Panel::default(), f32::NAN);
+            let stats = FrameStats {
+                frames_per_second: 60.0,
+            };
+            let (open, snapshot) = (&mut self.open, &self.snapshot);
+            let _ = self.ctx.run_ui(raw, |ui| {
+                (_, right) = show_or_open_button(ui, &mut panel, open, snapshot, stats);
+            });
+            right
+        }
     }
 
     /// On a phone (390 × 844 points) the panel starts closed and leaves the whole width to
@@ -657,9 +669,9 @@ mod tests {
     #[test]
     fn the_panel_starts_closed_on_a_phone_and_a_tap_opens_it() {
         let phone = egui::vec2(390.0, 844.0);
-        let (ctx, mut open) = (egui::Context::default(), None);
-        assert_eq!(frame(&ctx, phone, &mut open, vec![]), 0.0);
-        assert_eq!(open, Some(false));
+        let mut harness = Harness::new();
+        assert_eq!(harness.frame(phone, vec![]), 0.0);
+        assert_eq!(harness.open, Some(false));
         let at = egui::pos2(30.0, 18.0);
         let button = |pressed| egui::Event::PointerButton {
             pos: at,
@@ -668,13 +680,12 @@ mod tests {
             modifiers: egui::Modifiers::NONE,
         };
         // The button is laid out on the first frame, and can be hit from the next.
-        frame(&ctx, phone, &mut open, vec![egui::Event::PointerMoved(at)]);
-        frame(&ctx, phone, &mut open, vec![button(true)]);
-        frame(&ctx, phone, &mut open, vec![button(false)]);
-        assert_eq!(open, Some(true), "the tap opened the panel");
-        assert_eq!(frame(&ctx, phone, &mut open, vec![]), PANEL_WIDTH);
-        let (ctx, mut open) = (egui::Context::default(), None);
+        harness.frame(phone, vec![egui::Event::PointerMoved(at)]);
+        harness.frame(phone, vec![button(true)]);
+        harness.frame(phone, vec![button(false)]);
+        assert_eq!(harness.open, Some(true), "the tap opened the panel");
+        assert_eq!(harness.frame(phone, vec![]), PANEL_WIDTH);
         let desktop = egui::vec2(1280.0, 720.0);
-        assert_eq!(frame(&ctx, desktop, &mut open, vec![]), PANEL_WIDTH);
+        assert_eq!(Harness::new().frame(desktop, vec![]), PANEL_WIDTH);
     }
 }

@@ -79,19 +79,22 @@ impl Touches {
     }
 
     fn slide(&mut self, k: usize, position: Vec2, gestures: &mut SmallVec<[Gesture; 2]>) {
-        let before = self.fingers.clone();
-        self.fingers[k].1 = position;
-        match (before.as_slice(), self.pinched) {
+        let moved_from = std::mem::replace(&mut self.fingers[k].1, position);
+        match (self.fingers.as_slice(), self.pinched) {
             ([_], false) => gestures.push(Gesture::Point(position)),
-            ([(_, a0), (_, b0)], _) => {
-                let [(_, a1), (_, b1)] = [self.fingers[0], self.fingers[1]];
-                let (spread_before, spread) = (a0.distance(*b0), a1.distance(b1));
+            (&[(_, a1), (_, b1)], _) => {
+                let [a0, b0] = if k == 0 {
+                    [moved_from, b1]
+                } else {
+                    [a1, moved_from]
+                };
+                let (spread_before, spread) = (a0.distance(b0), a1.distance(b1));
                 if spread_before > 0.0 && spread > 0.0 {
                     // Fingers twice as far apart show the scene twice as large.
                     let steps = (spread / spread_before).ln() / (1.0f32 / 0.9).ln();
                     gestures.push(Gesture::Zoom(steps));
                 }
-                gestures.push(Gesture::Pan((a1 + b1) / 2.0 - (*a0 + *b0) / 2.0));
+                gestures.push(Gesture::Pan((a1 + b1) / 2.0 - (a0 + b0) / 2.0));
             }
             _ => {}
         }
