@@ -47,7 +47,7 @@ pub struct Pipelines {
     /// Overlays hidden by the bodies in front of them, drawn slightly nearer the eye so
     /// that the surface they lie on does not hide them.
     pub tested_lines: wgpu::RenderPipeline,
-    /// Lines drawn over everything (overlays in x-ray, joints, the drag line).
+    /// Lines drawn over everything (overlays in x-ray, the drag line).
     pub overlay_lines: wgpu::RenderPipeline,
 }
 
