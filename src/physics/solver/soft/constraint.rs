@@ -36,6 +36,9 @@ pub(super) struct PointConstraint {
     /// Whether the next contact in the pass shares no moving body with this one, so that
     /// the two may be solved side by side (`solve_two`).
     pub(super) pairs_with_next: bool,
+    /// Whether the point began the step deeper than `deep_overlap` beyond what its load
+    /// explains (`push_out::mark_deep`).
+    pub(super) deep: bool,
     /// The pair's Coulomb coefficient, √(μa μb).
     pub(super) friction: f32,
     /// The impulses accumulated so far, N·s: the warm start at first, the contact's final
@@ -199,21 +202,6 @@ impl PointConstraint {
         let [to_a, to_b] = self.on_each_body(l, normal * lambda);
         bodies.add(l, to_a);
         bodies.add(l, to_b);
-    }
-
-    /// Adds to the bodies' push-out (`SolverBody::push_out`) the least impulse along the
-    /// normal that has them move apart at `speed` in it, the linear motion only: the
-    /// push-out moves bodies and must not spin them up.
-    pub(super) fn move_apart(&self, bodies: &SharedBodies, speed: f64) {
-        let [slot_a, slot_b] = self.slots;
-        let (a, b) = (bodies.get(slot_a), bodies.get(slot_b));
-        let normal = self.normal();
-        let apart = normal.dot(b.push_out_velocity() - a.push_out_velocity());
-        let impulse = (speed - apart) / (a.inv_mass + b.inv_mass);
-        if impulse > 0.0 {
-            bodies.add_push_out(slot_a, -normal * impulse);
-            bodies.add_push_out(slot_b, normal * impulse);
-        }
     }
 
     /// Adds the impulse the contact holds to its bodies' next warm start.

@@ -10,7 +10,8 @@
 //!    **integrate velocities** (forces) and apply the **warm start** (the joints' along
 //!    their directions at the substep's poses, held by the last relax pass) →
 //!    **solve** the joints, then the contacts, with a soft position bias (`solve`) →
-//!    **integrate positions** → **relax**: solve joints and contacts again without bias,
+//!    in a step with deep overlaps, **push-out** (`push_out`) → **integrate positions** →
+//!    **relax**: solve joints and contacts again without bias,
 //!    removing the velocity the bias added → keep what the joints and contacts gave each
 //!    body as the next substep's warm start.
 //! 3. **restitution** (`restitution`): one pass gives fast impacts their bounce.
@@ -21,7 +22,7 @@
 //! pulled out like a critically-damped spring of `contact_hertz` Hz, capped at
 //! `max_push_out` m/s. An overlap much deeper than a contact's load explains (bodies
 //! created inside each other) is instead pushed out by moving the bodies apart, at most
-//! `max_push_out` fast, while its velocity is solved rigidly (`Pass::Biased`). A contact
+//! `max_push_out` fast, while its velocity is solved rigidly (`push_out`). A contact
 //! that is still open (positive separation: speculative) lets the bodies close the gap in
 //! this substep and no more, which stops fast bodies short of the surface without adding
 //! energy.
@@ -34,6 +35,7 @@
 
 mod constraint;
 mod prepare;
+mod push_out;
 mod restitution;
 mod solve;
 #[cfg(test)]
@@ -177,6 +179,8 @@ pub struct SoftScratch {
     joints: Vec<JointConstraint>,
     /// The bodies whose spin the substeps limit (`spin_guards`).
     spin_guards: SpinGuards,
+    /// The points' push-out impulses in a step with deep points (`push_out`).
+    push_out_impulses: Vec<f64>,
 }
 
 impl SoftScratch {
@@ -250,16 +254,22 @@ fn step_inline<L: Lanes>(
         bodies: slots,
         joints: joint_constraints,
         spin_guards: guards,
+        push_out_impulses,
         ..
     } = scratch;
     let substeps = ctx.settings.substeps.max(1);
     let h = ctx.dt / substeps as f64;
     let max_spin = MAX_TURN_IN_CONTACT / h;
     spin_guards(guards, constraints, bodies, awake, max_spin);
+    let softness = Softness::of_contacts(ctx.settings, h);
+    let max_push_out = ctx.settings.max_push_out;
+    let deep_overlap = ctx.settings.deep_overlap;
+    let deep_points = begins_deep(contacts, deep_overlap)
+        && push_out::mark_deep(constraints, softness, deep_overlap);
     let biased = Pass::Biased {
-        softness: Softness::of_contacts(ctx.settings, h),
-        max_push_out: ctx.settings.max_push_out,
-        deep_overlap: deep_overlap(contacts, ctx.settings.deep_overlap),
+        softness,
+        max_push_out,
+        deep_points,
     };
     let joints_biased = RowPass {
         softness: Some(Softness::of_joints(ctx.settings, h)),
@@ -289,10 +299,19 @@ fn step_inline<L: Lanes>(
             impacts,
         };
         solve::for_each_contact(&mut slots.slots, &mut contacts, colors, biased, h);
+        if deep_points {
+            push_out::solve(
+                &mut slots.slots,
+                contacts.points,
+                max_push_out,
+                push_out_impulses,
+                h,
+            );
+        }
         slots.limit_spins(bodies, &guards.list, max_spin);
         timed(ctx.timed, &mut integrate_seconds, || {
-            let push_out = (ctx.settings.max_push_out, h);
-            slots.integrate_positions(bodies, push_out, |body| {
+            let push_out_limit = (max_push_out, h);
+            slots.integrate_positions(bodies, push_out_limit, |body| {
                 integrate::integrate_pose(body, h, ctx.integrator)
             })
         });
@@ -319,10 +338,10 @@ fn step_inline<L: Lanes>(
     SoftStep { integrate_seconds }
 }
 
-/// `deep_overlap` when a contact begins the step deeper (see `Pass::Biased`).
-fn deep_overlap(contacts: &[ContactInput], deep_overlap: f64) -> Option<f64> {
-    let deep = contacts.iter().any(|c| c.separation < -deep_overlap);
-    deep.then_some(deep_overlap)
+/// Whether a contact begins the step deeper than `deep_overlap`: only then can a point be
+/// deep (`push_out::mark_deep`).
+fn begins_deep(contacts: &[ContactInput], deep_overlap: f64) -> bool {
+    contacts.iter().any(|c| c.separation < -deep_overlap)
 }
 
 /// The most a body in contact may turn in one substep, rad: a contact cannot follow a body

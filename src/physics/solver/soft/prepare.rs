@@ -169,6 +169,7 @@ pub(super) fn prepare<L: Lanes>(
     let [coupling_1, coupling_2] = normal_to_tangent(l, &side_a, &side_b, inv_masses, &across);
     let constraint = PointConstraint {
         pairs_with_next: false,
+        deep: false,
         separation: normal.dot(anchor_b - anchor_a) + separation_offset,
         normal_to_tangent: [coupling_1 as f32, coupling_2 as f32],
         a: side_a.into_lanes(),

@@ -57,7 +57,7 @@ impl Softness {
     /// a body of effective mass `mass`: where its push balances the impulse's leak, as a
     /// loaded contact settles (the static deflection, load / mass · g/ω²).
     #[inline(always)]
-    fn depth_under_load(&self, impulse: f64, mass: f64) -> f64 {
+    pub(super) fn depth_under_load(&self, impulse: f64, mass: f64) -> f64 {
         self.impulse_scale * impulse / (mass * self.mass_scale * self.bias_rate)
     }
 
@@ -94,14 +94,13 @@ const PARTS_PER_THREAD: usize = 4;
 /// through memory; a pass over the bodies is far smaller.
 #[derive(Clone, Copy)]
 pub(super) enum Pass {
-    /// Solves with the soft position bias; a point deeper than `deep_overlap` beyond what
-    /// its load explains is solved rigidly and pushes its bodies apart by moving them
-    /// (`PointConstraint::move_apart`), not through their velocities. `deep_overlap` is
-    /// None in a step whose contacts all began shallower.
+    /// Solves with the soft position bias; a deep point (`PointConstraint::deep`) is solved
+    /// rigidly, and `push_out` moves its bodies apart instead of the spring. `deep_points`
+    /// says whether the step has any.
     Biased {
         softness: Softness,
         max_push_out: f64,
-        deep_overlap: Option<f64>,
+        deep_points: bool,
     },
     /// Measures the separations at the poses the substep moved to, then solves without
     /// bias, removing the velocity the bias added.
@@ -170,8 +169,7 @@ pub(super) fn run_pass_inline<L: Lanes>(
     // passes of every other step 5 % more instructions.
     match pass {
         Pass::Biased {
-            deep_overlap: Some(_),
-            ..
+            deep_points: true, ..
         } => run_points::<L, true>(l, pass, bodies, contacts, h),
         _ => run_points::<L, false>(l, pass, bodies, contacts, h),
     }
@@ -197,11 +195,10 @@ fn run_points<L: Lanes, const DEEP: bool>(
         Pass::Biased {
             softness,
             max_push_out,
-            deep_overlap,
+            ..
         } => Some(Bias {
             softness,
             max_push_out,
-            deep_overlap: deep_overlap.unwrap_or(f64::INFINITY),
         }),
         Pass::Relax => None,
     };
@@ -239,8 +236,8 @@ fn solve_two<L: Lanes, const DEEP: bool>(
     bias: Option<Bias>,
 ) {
     let (speeds_x, speeds_y) = (x.speeds(l, bodies), y.speeds(l, bodies));
-    let normal_x = solve_normal::<DEEP>(bodies, (x, impact_x), speeds_x[0], h, bias);
-    let normal_y = solve_normal::<DEEP>(bodies, (y, impact_y), speeds_y[0], h, bias);
+    let normal_x = solve_normal::<DEEP>((x, impact_x), speeds_x[0], h, bias);
+    let normal_y = solve_normal::<DEEP>((y, impact_y), speeds_y[0], h, bias);
     let friction_x = solve_friction(x, tangent_speeds(x, speeds_x, normal_x));
     let friction_y = solve_friction(y, tangent_speeds(y, speeds_y, normal_y));
     x.apply(l, bodies, [normal_x, friction_x[0], friction_x[1]]);
@@ -252,7 +249,6 @@ fn solve_two<L: Lanes, const DEEP: bool>(
 struct Bias {
     softness: Softness,
     max_push_out: f64,
-    deep_overlap: f64,
 }
 
 /// One contact's share of a pass: normal (soft or rigid) then friction, applied together.
@@ -267,23 +263,9 @@ fn solve<L: Lanes, const DEEP: bool>(
     bias: Option<Bias>,
 ) {
     let speeds = c.speeds(l, bodies);
-    let normal = solve_normal::<DEEP>(bodies, (c, impact), speeds[0], h, bias);
+    let normal = solve_normal::<DEEP>((c, impact), speeds[0], h, bias);
     let [t1, t2] = solve_friction(c, tangent_speeds(c, speeds, normal));
     c.apply(l, bodies, [normal, t1, t2]);
-}
-
-/// Whether `c`, deeper than `deep_overlap`, is so beyond what its load explains (see
-/// `Pass::Biased`); if so, moves its bodies apart. Out of line: the passes' hot loop
-/// meets it only for overlaps that no step of a settled scene makes.
-#[cold]
-#[inline(never)]
-fn moved_apart_if_deep(bodies: &SharedBodies, c: &PointConstraint, bias: Bias) -> bool {
-    let load_depth = (bias.softness).depth_under_load(c.impulse.normal, c.normal_mass);
-    let deep = c.separation + load_depth < -bias.deep_overlap;
-    if deep {
-        c.move_apart(bodies, bias.max_push_out);
-    }
-    deep
 }
 
 /// The speeds along the tangents once the normal impulse `normal` is added.
@@ -304,7 +286,6 @@ fn tangent_speeds(c: &PointConstraint, speeds: [f64; 3], normal: f64) -> [f64; 2
 /// The normal impulse this pass adds, at the relative normal speed `normal_speed`.
 #[inline(always)]
 fn solve_normal<const DEEP: bool>(
-    bodies: &SharedBodies,
     (c, impact): (&mut PointConstraint, &mut PointImpact),
     normal_speed: f64,
     h: f64,
@@ -316,9 +297,9 @@ fn solve_normal<const DEEP: bool>(
         (separation / h, 1.0, 0.0)
     } else if let Some(bias) = bias {
         // A deep overlap that no load explains (bodies created inside each other) is pushed
-        // out by moving the bodies: its spring's push, passed from body to body through a
-        // crowd, flung them apart at many times `max_push_out`.
-        if DEEP && separation < -bias.deep_overlap && moved_apart_if_deep(bodies, c, bias) {
+        // out by moving the bodies (`push_out`): its spring's push, passed from body to body
+        // through a crowd, flung them apart at many times `max_push_out`.
+        if DEEP && c.deep {
             (0.0, 1.0, 0.0)
         } else {
             let soft = bias.softness;

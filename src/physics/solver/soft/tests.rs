@@ -131,7 +131,7 @@ fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
     let biased = Pass::Biased {
         softness: softness(h),
         max_push_out: 3.0,
-        deep_overlap: None,
+        deep_points: false,
     };
     for pass in [biased, Pass::Relax] {
         run_pass_inline(
@@ -189,7 +189,7 @@ fn packed_and_unpacked_passes_compute_the_same_bits() {
             Pass::Biased {
                 softness,
                 max_push_out: 3.0,
-                deep_overlap: None,
+                deep_points: false,
             },
             Pass::Relax,
         ];
