@@ -1,6 +1,6 @@
 //! Boxes created all at one point, without gravity: prints, for each crowd size, how fast
-//! the boxes move once they have parted (median and fastest, against `max_push_out`) and
-//! the deepest overlap left after 3 s.
+//! the boxes move once they have parted (median and fastest, against `max_push_out`), how
+//! many are still awake (sleeping is on) and the deepest overlap left after 3 s.
 //! `cargo run --release --example crowd_at_one_point`
 
 use rigid::prelude::*;
@@ -10,9 +10,9 @@ const STEPS: usize = 180;
 
 fn main() -> Result<(), AddBodyError> {
     println!(
-        "| boxes | median speed, m/s | fastest, m/s | max_push_out, m/s | deepest overlap, m |"
+        "| boxes | median speed, m/s | fastest, m/s | max_push_out, m/s | awake | deepest overlap, m |"
     );
-    println!("|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|");
     for count in [2, 10, 30, 100] {
         let mut world = World::default();
         for _ in 0..count {
@@ -25,8 +25,9 @@ fn main() -> Result<(), AddBodyError> {
             .map(|body| body.velocity().length())
             .collect();
         speeds.sort_by(f64::total_cmp);
+        let awake = world.bodies().iter().filter(|b| !b.sleeping).count();
         println!(
-            "| {count} | {:.3} | {:.3} | {} | {:.4} |",
+            "| {count} | {:.3} | {:.3} | {} | {awake} | {:.4} |",
             speeds[speeds.len() / 2],
             speeds[speeds.len() - 1],
             world.settings.solver.max_push_out,

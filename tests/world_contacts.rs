@@ -691,6 +691,14 @@ fn max_penetration_reports_the_overlap_found_before_solving() {
     );
 }
 
+/// `count` unit boxes created all at `at`, inside each other.
+fn unit_boxes_at(world: &mut World, at: DVec3, count: usize) -> Vec<BodyId> {
+    let desc = BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.5))).at(at);
+    (0..count)
+        .map(|_| world.add_body(desc.clone()).unwrap())
+        .collect()
+}
+
 /// 100 boxes created at one point, without gravity: they part, each moved by the push-out
 /// at most `max_push_out` (3 m/s) fast on top of its velocity, and are left slower than
 /// that; within 3 s nothing overlaps. Their springs' pushes, passed on through the crowd,
@@ -699,12 +707,7 @@ fn max_penetration_reports_the_overlap_found_before_solving() {
 fn boxes_created_at_one_point_part_no_faster_than_the_push_out_cap() {
     let mut world = World::default();
     let max_push_out = world.settings.solver.max_push_out;
-    let ids: Vec<BodyId> = (0..100)
-        .map(|_| {
-            let desc = BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.5)));
-            world.add_body(desc).unwrap()
-        })
-        .collect();
+    let ids = unit_boxes_at(&mut world, DVec3::ZERO, 100);
     let dt = 1.0 / 60.0;
     let mut fastest_move: f64 = 0.0;
     for _ in 0..180 {
@@ -736,12 +739,7 @@ fn boxes_created_at_one_point_part_no_faster_than_the_push_out_cap() {
 fn boxes_created_at_one_point_on_a_floor_spread_over_it_and_rest() {
     let mut world = world();
     add_ground(&mut world);
-    let ids: Vec<BodyId> = (0..100)
-        .map(|_| {
-            let desc = BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.5))).at(DVec3::Y * 0.5);
-            world.add_body(desc).unwrap()
-        })
-        .collect();
+    let ids = unit_boxes_at(&mut world, DVec3::Y * 0.5, 100);
     let mut fastest: f64 = 0.0;
     for _ in 0..300 {
         world.step(1.0 / 60.0);

@@ -34,7 +34,7 @@ pub struct SolverBody {
     pub angular_momentum: F64x4,
     pub inv_mass: f64,
     /// The linear momentum by which this substep's deep contacts push the body out
-    /// (`soft::solve`, `Pass::Biased`): **integrate positions** moves the body by it, at
+    /// (`soft::push_out`): **integrate positions** moves the body by it, at
     /// most `max_push_out` fast, and its velocity keeps none of it. In the padding after
     /// `inv_mass`, beside what the contacts read anyway.
     pub push_out: DVec3,

@@ -165,8 +165,9 @@ pub(super) fn run_pass_inline<L: Lanes>(
     contacts: Contacts,
     h: f64,
 ) {
-    // A second copy of the loop for the steps with deep points: the check alone cost the
-    // passes of every other step 5 % more instructions.
+    // A second copy of the loop for the steps with deep points, so that every other step
+    // runs the loop it ran before: a check in the one loop cost 5.6 % more instructions
+    // (BENCHMARKS.md, "Deep overlap pushed out by moving the bodies").
     match pass {
         Pass::Biased {
             deep_points: true, ..
