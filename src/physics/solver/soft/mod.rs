@@ -179,8 +179,8 @@ pub struct SoftScratch {
     joints: Vec<JointConstraint>,
     /// The bodies whose spin the substeps limit (`spin_guards`).
     spin_guards: SpinGuards,
-    /// The points' push-out impulses in a step with deep points (`push_out`).
-    push_out_impulses: Vec<f64>,
+    /// What the push-out keeps in a step with deep points (`push_out`).
+    push_out: push_out::PushOutScratch,
 }
 
 impl SoftScratch {
@@ -254,7 +254,7 @@ fn step_inline<L: Lanes>(
         bodies: slots,
         joints: joint_constraints,
         spin_guards: guards,
-        push_out_impulses,
+        push_out,
         ..
     } = scratch;
     let substeps = ctx.settings.substeps.max(1);
@@ -266,6 +266,9 @@ fn step_inline<L: Lanes>(
     let deep_overlap = ctx.settings.deep_overlap;
     let deep_points = begins_deep(contacts, deep_overlap)
         && push_out::mark_deep(constraints, softness, deep_overlap);
+    if deep_points {
+        push_out::prepare(push_out, &slots.slots, constraints);
+    }
     let biased = Pass::Biased {
         softness,
         max_push_out,
@@ -300,13 +303,7 @@ fn step_inline<L: Lanes>(
         };
         solve::for_each_contact(&mut slots.slots, &mut contacts, colors, biased, h);
         if deep_points {
-            push_out::solve(
-                &mut slots.slots,
-                contacts.points,
-                max_push_out,
-                push_out_impulses,
-                h,
-            );
+            push_out::solve(&mut slots.slots, contacts.points, max_push_out, push_out, h);
         }
         slots.limit_spins(bodies, &guards.list, max_spin);
         timed(ctx.timed, &mut integrate_seconds, || {
