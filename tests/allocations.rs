@@ -104,6 +104,24 @@ fn joints_and_a_platform() -> (World, f64) {
     (world, dt)
 }
 
+/// 30 unit boxes created at one point on a fixed floor, after 3 steps: they are still
+/// deeper in each other than `deep_overlap`, so the steps push them out (`soft::push_out`).
+fn a_crowd_at_one_point() -> (World, f64) {
+    let mut world = World::default();
+    world.forces.push(EnvironmentForce::earth_gravity());
+    let floor = BodyDesc::fixed(Shape::cuboid(DVec3::new(20.0, 0.5, 20.0))).at(DVec3::Y * -0.5);
+    world.add_body(floor).unwrap();
+    let crate_ = BodyDesc::dynamic(Shape::cuboid(DVec3::splat(0.5))).at(DVec3::Y * 0.5);
+    for _ in 0..30 {
+        world.add_body(crate_.clone()).unwrap();
+    }
+    let dt = 1.0 / 60.0;
+    for _ in 0..3 {
+        world.step(dt);
+    }
+    (world, dt)
+}
+
 #[test]
 fn steps_after_the_lists_have_grown_allocate_nothing() {
     // The pyramid's 210 boxes kept awake: every stage runs on a full resting load, the
@@ -139,6 +157,17 @@ fn steps_after_the_lists_have_grown_allocate_nothing() {
         });
         let case = format!("joints and a platform, {threads} threads: {allocations} allocations");
         println!("{case}");
+        if allocations != 0 {
+            failures.push(case);
+        }
+        let (allocations, deepest) = pool.install(|| {
+            let (mut world, dt) = a_crowd_at_one_point();
+            (allocations_over(&mut world, dt, 5), world.max_penetration())
+        });
+        let case = format!("a crowd at one point, {threads} threads: {allocations} allocations");
+        println!("{case}, deepest overlap {deepest} m");
+        let deep_overlap = World::default().settings.solver.deep_overlap;
+        assert!(deepest > deep_overlap, "no deep overlap left to push out");
         if allocations != 0 {
             failures.push(case);
         }

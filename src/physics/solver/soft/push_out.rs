@@ -36,62 +36,39 @@ pub(super) fn mark_deep(
     any
 }
 
-/// Readies `scratch` for the push-out of `points` (marked by `mark_deep`) over this step's
-/// substeps, with `bodies` the solver's slots.
-pub(super) fn prepare(
-    scratch: &mut PushOutScratch,
-    bodies: &[SolverBody],
-    points: &[PointConstraint],
-) {
-    let slot_held = |slot: u32| held(&bodies[slot as usize]);
-    scratch.impulses.resize(points.len(), 0.0);
-    scratch.points.clear();
-    scratch.points.extend(points.iter().map(|c| PushPoint {
-        slots: c.slots,
-        deep: c.deep,
-    }));
-    scratch.on_held.clear();
-    let on_held = points
-        .iter()
-        .enumerate()
-        .filter(|(_, c)| c.slots.into_iter().any(slot_held));
-    scratch.on_held.extend(on_held.map(|(k, _)| k as u32));
-    scratch.reach.clear();
-    let reach = |body| {
-        if held(body) {
-            Reach::Held
-        } else {
-            Reach::Still
-        }
-    };
-    scratch.reach.extend(bodies.iter().map(reach));
-}
-
-/// What the push-out keeps between steps, so that it allocates nothing once grown: the
-/// points' accumulated push-out impulses, and which bodies the push-out has reached.
+/// What the push-out keeps between steps, so that it allocates nothing once grown.
+///
+/// A point that is not deep and whose bodies the push-out has not reached in this substep
+/// adds nothing (its target never pushes, and neither body moves): the sweeps visit only
+/// the deep points and, once a body is reached, that body's points. So the work follows the
+/// deep points and the bodies they push, not the scene.
 #[derive(Clone, Debug, Default)]
 pub(super) struct PushOutScratch {
-    /// One per point: its accumulated push-out impulse in this substep, N·s.
-    impulses: Vec<f64>,
-    /// One per point: its slots, and whether it is deep, read without its whole record.
-    points: Vec<PushPoint>,
-    /// The points that touch a fixed or kinematic body (`held`).
+    /// One per point: its slots, read without its whole record.
+    slots: Vec<[u32; 2]>,
+    /// The deep points.
+    deep: Vec<u32>,
+    /// The points that touch a fixed or kinematic body.
     on_held: Vec<u32>,
-    /// One per slot: what the push-out may do to it (`Reach`).
+    /// The points of the body in slot s are `body_points[point_starts[s]..point_starts[s +
+    /// 1]]` (none for a held body).
+    point_starts: Vec<u32>,
+    body_points: Vec<u32>,
+    /// One per slot: what the push-out may do to it.
     reach: Vec<Reach>,
-}
-
-/// A point as the push-out's sweeps first read it.
-#[derive(Clone, Copy, Debug)]
-struct PushPoint {
-    slots: [u32; 2],
-    deep: bool,
+    /// The slots reached in this substep.
+    reached: Vec<u32>,
+    /// One bit per point: the points the sweeps visit in this substep.
+    visited: Vec<u64>,
+    /// One per point: its accumulated push-out impulse in this substep, N·s (set when the
+    /// point is first visited).
+    impulses: Vec<f64>,
 }
 
 /// Where the push-out stands with a body in this substep.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Reach {
-    /// Not pushed so far: a point between two such bodies that is not deep adds nothing.
+    /// Not pushed so far.
     Still,
     /// Pushed (or pushing back) by some point.
     Moving,
@@ -99,12 +76,82 @@ enum Reach {
     Held,
 }
 
+/// Readies `scratch` for the push-out of `points` (marked by `mark_deep`) over this step's
+/// substeps, with `bodies` the solver's slots.
+pub(super) fn prepare(
+    scratch: &mut PushOutScratch,
+    bodies: &[SolverBody],
+    points: &[PointConstraint],
+) {
+    let reach = |body| {
+        if held(body) {
+            Reach::Held
+        } else {
+            Reach::Still
+        }
+    };
+    scratch.reach.clear();
+    scratch.reach.extend(bodies.iter().map(reach));
+    scratch.slots.clear();
+    scratch.slots.extend(points.iter().map(|c| c.slots));
+    let indices = |keep: fn(&PointConstraint, &[Reach]) -> bool| {
+        let reach = &scratch.reach;
+        let kept = points
+            .iter()
+            .enumerate()
+            .filter(move |(_, c)| keep(c, reach));
+        kept.map(|(k, _)| k as u32)
+    };
+    let deep = indices(|c, _| c.deep);
+    scratch.deep.clear();
+    scratch.deep.extend(deep);
+    let on_held = indices(|c, reach| c.slots.iter().any(|&s| reach[s as usize] == Reach::Held));
+    scratch.on_held.clear();
+    scratch.on_held.extend(on_held);
+    group_by_body(scratch);
+    scratch.visited.resize(points.len().div_ceil(64), 0);
+    scratch.impulses.resize(points.len(), 0.0);
+}
+
+/// Fills `point_starts` and `body_points` from `slots` (a counting sort by slot).
+fn group_by_body(scratch: &mut PushOutScratch) {
+    let PushOutScratch {
+        slots,
+        point_starts,
+        body_points,
+        reach,
+        ..
+    } = scratch;
+    let moving_slots = |pair: &[u32; 2]| {
+        let [a, b] = *pair;
+        let b = (b != a).then_some(b);
+        [Some(a), b]
+            .into_iter()
+            .flatten()
+            .filter(|&s| reach[s as usize] != Reach::Held)
+    };
+    // Each slot's count at its place, summed into where its points end; filled from the
+    // last point back, each slot's place counts down to where its points start.
+    point_starts.clear();
+    point_starts.resize(reach.len() + 1, 0);
+    for s in slots.iter().flat_map(moving_slots) {
+        point_starts[s as usize] += 1;
+    }
+    for s in 1..point_starts.len() {
+        point_starts[s] += point_starts[s - 1];
+    }
+    body_points.clear();
+    body_points.resize(point_starts[reach.len()] as usize, 0);
+    for (k, pair) in slots.iter().enumerate().rev() {
+        for s in moving_slots(pair) {
+            point_starts[s as usize] -= 1;
+            body_points[point_starts[s as usize] as usize] = k as u32;
+        }
+    }
+}
+
 /// Solves the push-out of `points` for a substep of length `h` (`scratch` from
 /// `prepare`, in the same step).
-///
-/// A point that is not deep and whose bodies the push-out has not reached adds nothing
-/// (its target never pushes, and neither body moves), so the sweeps skip it without its
-/// record: the work follows the deep points and the bodies they push, not the scene.
 pub(super) fn solve(
     bodies: &mut [SolverBody],
     points: &[PointConstraint],
@@ -112,50 +159,101 @@ pub(super) fn solve(
     scratch: &mut PushOutScratch,
     h: f64,
 ) {
-    let PushOutScratch {
-        impulses,
-        points: push_points,
-        on_held,
-        reach,
-    } = scratch;
-    impulses.fill(0.0);
-    for r in reach.iter_mut().filter(|r| **r == Reach::Moving) {
-        *r = Reach::Still;
+    for &s in &scratch.reached {
+        scratch.reach[s as usize] = Reach::Still;
     }
-    let target = |c: &PointConstraint| {
-        if c.deep && c.separation < 0.0 {
-            max_push_out
-        } else {
-            // Open: it may close its gap in this substep; touching: not move further in.
-            c.separation.max(0.0) / -h
-        }
-    };
+    scratch.reached.clear();
+    scratch.visited.fill(0);
+    for k in 0..scratch.deep.len() {
+        scratch.visit(scratch.deep[k]);
+    }
     // SAFETY: used on this thread only.
     let shared = unsafe { SharedBodies::new(bodies) };
-    let mut sweep = |k: usize, impulse: &mut f64| {
-        let PushPoint { slots, deep } = push_points[k];
-        let reached = slots.map(|slot| reach[slot as usize] == Reach::Moving);
-        if !deep && reached == [false, false] {
-            return;
-        }
-        let c = &points[k];
-        if push_apart(&shared, c, target(c), impulse) {
-            for slot in slots {
-                if reach[slot as usize] == Reach::Still {
-                    reach[slot as usize] = Reach::Moving;
-                }
-            }
-        }
+    let sweep = Sweep {
+        bodies: &shared,
+        points,
+        max_push_out,
+        h,
     };
     for _ in 0..ITERATIONS {
-        for (k, impulse) in impulses.iter_mut().enumerate() {
-            sweep(k, impulse);
+        let mut word = 0;
+        while word < scratch.visited.len() {
+            // Read again after each point: a point may add later points of this word.
+            let mut after = 0;
+            while let Some(bit) = next_bit(scratch.visited[word], after) {
+                let k = word * 64 + bit;
+                let mut impulse = scratch.impulses[k];
+                sweep.push(scratch, k, &mut impulse);
+                scratch.impulses[k] = impulse;
+                after = bit + 1;
+            }
+            word += 1;
         }
     }
     // The sweeps leave a crowd's lowest bodies still pushed down by those above: a fixed or
     // kinematic body's points have the last word, so that nothing is pushed through it.
-    for &k in on_held.iter() {
-        sweep(k as usize, &mut 0.0);
+    for i in 0..scratch.on_held.len() {
+        let k = scratch.on_held[i] as usize;
+        if scratch.visited[k / 64] & (1 << (k % 64)) != 0 {
+            sweep.push(scratch, k, &mut 0.0);
+        }
+    }
+}
+
+/// The lowest set bit of `word` at `from` or above.
+fn next_bit(word: u64, from: usize) -> Option<usize> {
+    let above = word.checked_shr(from as u32).unwrap_or(0) << from.min(63);
+    (above != 0).then(|| above.trailing_zeros() as usize)
+}
+
+impl PushOutScratch {
+    /// Marks point `k` to be visited from now on in this substep.
+    fn visit(&mut self, k: u32) {
+        let (word, bit) = (k as usize / 64, k % 64);
+        if self.visited[word] & (1 << bit) == 0 {
+            self.visited[word] |= 1 << bit;
+            self.impulses[k as usize] = 0.0;
+        }
+    }
+
+    /// Marks the body in `slot` reached, and its points to be visited.
+    fn reach(&mut self, slot: u32) {
+        if self.reach[slot as usize] != Reach::Still {
+            return;
+        }
+        self.reach[slot as usize] = Reach::Moving;
+        self.reached.push(slot);
+        let range = self.point_starts[slot as usize]..self.point_starts[slot as usize + 1];
+        for i in range {
+            self.visit(self.body_points[i as usize]);
+        }
+    }
+}
+
+/// What a push-out sweep reads.
+struct Sweep<'a> {
+    bodies: &'a SharedBodies<'a>,
+    points: &'a [PointConstraint],
+    max_push_out: f64,
+    h: f64,
+}
+
+impl Sweep<'_> {
+    /// Solves point `k` with `impulse` as its accumulated push-out impulse, and marks its
+    /// bodies reached when it pushes them.
+    fn push(&self, scratch: &mut PushOutScratch, k: usize, impulse: &mut f64) {
+        let c = &self.points[k];
+        let target = if c.deep && c.separation < 0.0 {
+            self.max_push_out
+        } else {
+            // Open: it may close its gap in this substep; touching: not move further in.
+            c.separation.max(0.0) / -self.h
+        };
+        if push_apart(self.bodies, c, target, impulse) {
+            let [a, b] = scratch.slots[k];
+            scratch.reach(a);
+            scratch.reach(b);
+        }
     }
 }
 
