@@ -662,17 +662,22 @@ fn best_edge_axis(a: &Polyhedron, b: &Polyhedron, floor: f64, slack: f64) -> Opt
     // the higher of its two faces (see `arc_reaches`), measured once per face.
     let heights_a = centroid_heights(a, b, slack);
     let heights_b = centroid_heights(b, a, slack);
-    let edges_b: EdgeArcs = (0..b.edges.len())
-        .filter_map(|j| {
-            let [f0, f1] = b.edge_faces[j]?;
-            let arc = [-b.faces[f0].normal, -b.faces[f1].normal];
-            let point = b.vertices[b.edges[j][0] as usize];
-            let level = floor + a.inner_radius - slack;
-            let ends = heights_b[f0].max(heights_b[f1]);
-            let reaches = arc_reaches(arc, point - a.centroid, level, ends);
-            reaches.then(|| (j, GaussArc::new(arc[0], arc[1])))
-        })
-        .collect();
+    let level_b = floor + a.inner_radius - slack;
+    let mut edges_b = EdgeArcs::new();
+    for j in 0..b.edges.len() {
+        let Some([f0, f1]) = b.edge_faces[j] else {
+            continue;
+        };
+        let ends = heights_b[f0].max(heights_b[f1]);
+        if ends <= 0.0 && ends < level_b {
+            continue; // as `arc_reaches` would find, without reading the edge
+        }
+        let arc = [-b.faces[f0].normal, -b.faces[f1].normal];
+        let point = b.vertices[b.edges[j][0] as usize];
+        if arc_reaches(arc, point - a.centroid, level_b, ends) {
+            edges_b.push((j, GaussArc::new(arc[0], arc[1])));
+        }
+    }
     let mut best: Option<Axis> = None;
     for i in 0..a.edges.len() {
         let Some([f0, f1]) = a.edge_faces[i] else {
@@ -727,6 +732,13 @@ type FaceHeights = SmallVec<[f64; 64]>;
 /// radius, an edge whose arc does not reach the level makes no pair above the floor, and is
 /// left out (for an edge of B, its negated arc and the offset from A's centroid to it,
 /// likewise).
+///
+/// The peak is the offset's projection onto the arc's plane, where n · offset is largest
+/// on the circle; it lies inside the arc when its dot products with the ends are each at
+/// least the other's times p · q, and its squared length times the Gram determinant of p
+/// and q is a quadratic form in p · offset and q · offset. So no cross product, square
+/// root or division is taken: this runs for most edges of every pair of hulls searched.
+#[inline(always)]
 fn arc_reaches([p, q]: [DVec3; 2], offset: DVec3, level: f64, ends: f64) -> bool {
     if ends >= level {
         return true;
@@ -737,15 +749,14 @@ fn arc_reaches([p, q]: [DVec3; 2], offset: DVec3, level: f64, ends: f64) -> bool
         // stays at most `ends`. Most edges face away from the other shape and stop here.
         return false;
     }
-    let plane = p.cross(q);
-    let square = plane.length_squared();
-    if square == 0.0 {
-        return offset.length() >= level;
-    }
-    // The offset's part in the arc's plane points where n · offset peaks on the circle.
-    let peak = offset - plane * (offset.dot(plane) / square);
-    let within = p.cross(peak).dot(plane) >= 0.0 && peak.cross(q).dot(plane) >= 0.0;
-    within && peak.length() >= level
+    let (pp, qq, pq) = (p.length_squared(), q.length_squared(), p.dot(q));
+    let (op, oq) = (offset.dot(p), offset.dot(q));
+    let within = pp * oq >= pq * op && qq * op >= pq * oq;
+    let gram = pp * qq - pq * pq;
+    let peak_squared_times_gram = qq * op * op - 2.0 * pq * op * oq + pp * oq * oq;
+    // `level` > `ends` > 0 here. Where p and q are parallel (a Gram determinant of 0) the
+    // test keeps the edge: leaving one in is always safe.
+    within && peak_squared_times_gram >= level * level * gram
 }
 
 /// `best_edge_axis` for two boxes. A box has 12 edges but only 3 directions, and for each
