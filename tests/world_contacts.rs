@@ -761,6 +761,43 @@ fn boxes_created_at_one_point_on_a_floor_spread_over_it_and_rest() {
     );
 }
 
+/// 30 boxes created at one point half inside a kinematic slab gliding at 0.5 m/s: the slab
+/// keeps its scripted path, as a floor would stay put, while the push-out lifts the boxes
+/// out of it onto its top, where it carries them.
+#[test]
+fn boxes_created_inside_a_kinematic_slab_are_pushed_onto_it_and_never_move_it() {
+    let mut world = world();
+    let glide = DVec3::X * 0.5;
+    let slab = BodyDesc::kinematic(Shape::cuboid(DVec3::new(10.0, 0.5, 10.0)))
+        .at(DVec3::Y * -0.5)
+        .with_velocity(glide);
+    let slab = world.add_body(slab).unwrap();
+    let ids = unit_boxes_at(&mut world, DVec3::ZERO, 30);
+    let seconds = 5.0;
+    run(&mut world, seconds);
+    let expected = DVec3::Y * -0.5 + glide * seconds;
+    let moved = world.body(slab).position;
+    assert!(
+        (moved - expected).length() < 1e-9,
+        "slab at {moved:?}, scripted {expected:?}"
+    );
+    for &id in &ids {
+        let body = world.body(id);
+        // On the slab's top face (y = 0) or on other boxes, and carried along with it.
+        assert!(body.position.y > 0.49, "{:?}", body.position);
+        let relative = body.velocity() - glide;
+        assert!(
+            relative.length() < 0.05,
+            "{relative:?} m/s against the slab"
+        );
+    }
+    assert!(
+        world.max_penetration() < 1e-3,
+        "{}",
+        world.max_penetration()
+    );
+}
+
 #[test]
 fn bodies_flying_together_make_no_contacts_with_each_other() {
     // No gravity: a row of boxes 10 cm apart, all at 20 m/s along the row's normal. Each

@@ -267,7 +267,7 @@ fn step_inline<L: Lanes>(
     let deep_points = begins_deep(contacts, deep_overlap)
         && push_out::mark_deep(constraints, softness, deep_overlap);
     if deep_points {
-        push_out::prepare(push_out, &slots.slots, constraints);
+        push_out::prepare(push_out, (bodies, awake), slots.slots.len(), constraints);
     }
     let biased = Pass::Biased {
         softness,

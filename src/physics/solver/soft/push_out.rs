@@ -10,7 +10,8 @@
 
 use super::constraint::PointConstraint;
 use super::solve::Softness;
-use crate::physics::solver::solver_bodies::{KINEMATIC_SCALE, SharedBodies, SolverBody};
+use crate::physics::dynamics::body::RigidBody;
+use crate::physics::solver::solver_bodies::{SharedBodies, SolverBody};
 
 /// Sweeps over the points per substep.
 const ITERATIONS: usize = 4;
@@ -77,21 +78,20 @@ enum Reach {
 }
 
 /// Readies `scratch` for the push-out of `points` (marked by `mark_deep`) over this step's
-/// substeps, with `bodies` the solver's slots.
+/// substeps, with `slot_count` solver slots: the fixed slot, then those of the `awake`
+/// bodies in order (then padding, which no point holds).
 pub(super) fn prepare(
     scratch: &mut PushOutScratch,
-    bodies: &[SolverBody],
+    (bodies, awake): (&[RigidBody], &[u32]),
+    slot_count: usize,
     points: &[PointConstraint],
 ) {
-    let reach = |body| {
-        if held(body) {
-            Reach::Held
-        } else {
-            Reach::Still
-        }
-    };
+    let kinematic = |k: &u32| bodies[*k as usize].is_kinematic();
+    let reach = |held| if held { Reach::Held } else { Reach::Still };
     scratch.reach.clear();
-    scratch.reach.extend(bodies.iter().map(reach));
+    scratch.reach.push(Reach::Held);
+    scratch.reach.extend(awake.iter().map(kinematic).map(reach));
+    scratch.reach.resize(slot_count, Reach::Still);
     scratch.slots.clear();
     scratch.slots.extend(points.iter().map(|c| c.slots));
     let indices = |keep: fn(&PointConstraint, &[Reach]) -> bool| {
@@ -255,11 +255,6 @@ impl Sweep<'_> {
             scratch.reach(b);
         }
     }
-}
-
-/// Whether the push-out never moves `body`: fixed, or kinematic.
-fn held(body: &SolverBody) -> bool {
-    body.inv_mass == 0.0 || body.inv_mass == 1.0 / KINEMATIC_SCALE
 }
 
 /// Adds the least impulse along `c`'s normal (keeping the accumulated `impulse` a push)
