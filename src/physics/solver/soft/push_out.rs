@@ -45,8 +45,6 @@ pub(super) fn mark_deep(
 /// deep points and the bodies they push, not the scene.
 #[derive(Clone, Debug, Default)]
 pub(super) struct PushOutScratch {
-    /// One per point: its slots, read without its whole record.
-    slots: Vec<[u32; 2]>,
     /// The deep points.
     deep: Vec<u32>,
     /// The points that touch a fixed or kinematic body.
@@ -92,8 +90,6 @@ pub(super) fn prepare(
     scratch.reach.push(Reach::Held);
     scratch.reach.extend(awake.iter().map(kinematic).map(reach));
     scratch.reach.resize(slot_count, Reach::Still);
-    scratch.slots.clear();
-    scratch.slots.extend(points.iter().map(|c| c.slots));
     let indices = |keep: fn(&PointConstraint, &[Reach]) -> bool| {
         let reach = &scratch.reach;
         let kept = points
@@ -108,22 +104,22 @@ pub(super) fn prepare(
     let on_held = indices(|c, reach| c.slots.iter().any(|&s| reach[s as usize] == Reach::Held));
     scratch.on_held.clear();
     scratch.on_held.extend(on_held);
-    group_by_body(scratch);
+    group_by_body(scratch, points);
     scratch.visited.resize(points.len().div_ceil(64), 0);
     scratch.impulses.resize(points.len(), 0.0);
 }
 
-/// Fills `point_starts` and `body_points` from `slots` (a counting sort by slot).
-fn group_by_body(scratch: &mut PushOutScratch) {
+/// Fills `point_starts` and `body_points` from the `points`' slots (a counting sort by
+/// slot).
+fn group_by_body(scratch: &mut PushOutScratch, points: &[PointConstraint]) {
     let PushOutScratch {
-        slots,
         point_starts,
         body_points,
         reach,
         ..
     } = scratch;
-    let moving_slots = |pair: &[u32; 2]| {
-        let [a, b] = *pair;
+    let moving_slots = |c: &PointConstraint| {
+        let [a, b] = c.slots;
         let b = (b != a).then_some(b);
         [Some(a), b]
             .into_iter()
@@ -134,7 +130,7 @@ fn group_by_body(scratch: &mut PushOutScratch) {
     // last point back, each slot's place counts down to where its points start.
     point_starts.clear();
     point_starts.resize(reach.len() + 1, 0);
-    for s in slots.iter().flat_map(moving_slots) {
+    for s in points.iter().flat_map(moving_slots) {
         point_starts[s as usize] += 1;
     }
     for s in 1..point_starts.len() {
@@ -142,8 +138,8 @@ fn group_by_body(scratch: &mut PushOutScratch) {
     }
     body_points.clear();
     body_points.resize(point_starts[reach.len()] as usize, 0);
-    for (k, pair) in slots.iter().enumerate().rev() {
-        for s in moving_slots(pair) {
+    for (k, c) in points.iter().enumerate().rev() {
+        for s in moving_slots(c) {
             point_starts[s as usize] -= 1;
             body_points[point_starts[s as usize] as usize] = k as u32;
         }
@@ -176,18 +172,14 @@ pub(super) fn solve(
         h,
     };
     for _ in 0..ITERATIONS {
-        let mut word = 0;
-        while word < scratch.visited.len() {
+        for word in 0..scratch.visited.len() {
             // Read again after each point: a point may add later points of this word.
             let mut after = 0;
             while let Some(bit) = next_bit(scratch.visited[word], after) {
                 let k = word * 64 + bit;
-                let mut impulse = scratch.impulses[k];
-                sweep.push(scratch, k, &mut impulse);
-                scratch.impulses[k] = impulse;
+                scratch.impulses[k] = sweep.push(scratch, k, scratch.impulses[k]);
                 after = bit + 1;
             }
-            word += 1;
         }
     }
     // The sweeps leave a crowd's lowest bodies still pushed down by those above: a fixed or
@@ -195,7 +187,7 @@ pub(super) fn solve(
     for i in 0..scratch.on_held.len() {
         let k = scratch.on_held[i] as usize;
         if scratch.visited[k / 64] & (1 << (k % 64)) != 0 {
-            sweep.push(scratch, k, &mut 0.0);
+            sweep.push(scratch, k, 0.0);
         }
     }
 }
@@ -239,9 +231,9 @@ struct Sweep<'a> {
 }
 
 impl Sweep<'_> {
-    /// Solves point `k` with `impulse` as its accumulated push-out impulse, and marks its
-    /// bodies reached when it pushes them.
-    fn push(&self, scratch: &mut PushOutScratch, k: usize, impulse: &mut f64) {
+    /// Solves point `k`, whose accumulated push-out impulse is `accumulated`, marks its
+    /// bodies reached when it pushes them, and returns the new accumulated impulse.
+    fn push(&self, scratch: &mut PushOutScratch, k: usize, accumulated: f64) -> f64 {
         let c = &self.points[k];
         let target = if c.deep && c.separation < 0.0 {
             self.max_push_out
@@ -249,11 +241,13 @@ impl Sweep<'_> {
             // Open: it may close its gap in this substep; touching: not move further in.
             c.separation.max(0.0) / -self.h
         };
-        if push_apart(self.bodies, c, target, impulse) {
-            let [a, b] = scratch.slots[k];
+        let mut impulse = accumulated;
+        if push_apart(self.bodies, c, target, &mut impulse) {
+            let [a, b] = c.slots;
             scratch.reach(a);
             scratch.reach(b);
         }
+        impulse
     }
 }
 
