@@ -761,6 +761,32 @@ fn boxes_created_at_one_point_on_a_floor_spread_over_it_and_rest() {
     );
 }
 
+/// 30 boxes created at one point, 26 of them removed after the first step while all are
+/// still deep in each other: the 4 left go on parting, no faster than the push-out cap, and
+/// no longer overlap after 3 s. The push-out once kept the bodies it had reached in the last
+/// step, by slots the next step hands to other bodies or no longer has.
+#[test]
+fn a_crowd_thinned_out_while_still_deep_goes_on_parting() {
+    let mut world = World::default();
+    let ids = unit_boxes_at(&mut world, DVec3::ZERO, 30);
+    let dt = 1.0 / 60.0;
+    world.step(dt);
+    for &id in &ids[4..] {
+        world.remove_body(id).unwrap();
+    }
+    run(&mut world, 3.0);
+    let max_push_out = world.settings.solver.max_push_out;
+    for &id in &ids[..4] {
+        let speed = world.body(id).velocity().length();
+        assert!(speed <= max_push_out, "{speed} m/s");
+    }
+    assert!(
+        world.max_penetration() < 1e-3,
+        "{}",
+        world.max_penetration()
+    );
+}
+
 /// 30 boxes created at one point half inside a kinematic slab gliding at 0.5 m/s: the slab
 /// keeps its scripted path, as a floor would stay put, while the push-out lifts the boxes
 /// out of it onto its top, where it carries them.

@@ -90,6 +90,8 @@ pub(super) fn prepare(
     scratch.reach.push(Reach::Held);
     scratch.reach.extend(awake.iter().map(kinematic).map(reach));
     scratch.reach.resize(slot_count, Reach::Still);
+    // Reached in the last step: by slots this step may hand to other bodies, or not have.
+    scratch.reached.clear();
     let indices = |keep: fn(&PointConstraint, &[Reach]) -> bool| {
         let reach = &scratch.reach;
         let kept = points
