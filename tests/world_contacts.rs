@@ -19,6 +19,12 @@ fn add_ground(world: &mut World) -> BodyId {
         .unwrap()
 }
 
+/// No two bodies of `world` overlap by 1 mm or more.
+fn assert_nothing_overlaps(world: &World) {
+    let deepest = world.max_penetration();
+    assert!(deepest < 1e-3, "{deepest} m");
+}
+
 fn run(world: &mut World, seconds: f64) {
     for _ in 0..(seconds * 60.0).round() as usize {
         world.step(1.0 / 60.0);
@@ -684,11 +690,7 @@ fn max_penetration_reports_the_overlap_found_before_solving() {
     );
     // Pushed out at no more than max_push_out (3 m/s): nearly clear after half a second.
     run(&mut world, 0.5);
-    assert!(
-        world.max_penetration() < 1e-3,
-        "{}",
-        world.max_penetration()
-    );
+    assert_nothing_overlaps(&world);
 }
 
 /// `count` unit boxes created all at `at`, inside each other.
@@ -725,11 +727,7 @@ fn boxes_created_at_one_point_part_no_faster_than_the_push_out_cap() {
         "moved at {fastest_move} m/s"
     );
     assert!(fastest_end <= max_push_out, "left at {fastest_end} m/s");
-    assert!(
-        world.max_penetration() < 1e-3,
-        "{}",
-        world.max_penetration()
-    );
+    assert_nothing_overlaps(&world);
 }
 
 /// 100 boxes created at one point on a floor: they spread over it without being pushed
@@ -754,11 +752,7 @@ fn boxes_created_at_one_point_on_a_floor_spread_over_it_and_rest() {
         assert!(body.position.y > 0.49, "{:?}", body.position);
         assert!(body.sleeping, "{:?}", body.position);
     }
-    assert!(
-        world.max_penetration() < 1e-3,
-        "{}",
-        world.max_penetration()
-    );
+    assert_nothing_overlaps(&world);
 }
 
 /// 30 boxes created at one point, 26 of them removed after the first step while all are
@@ -780,11 +774,7 @@ fn a_crowd_thinned_out_while_still_deep_goes_on_parting() {
         let speed = world.body(id).velocity().length();
         assert!(speed <= max_push_out, "{speed} m/s");
     }
-    assert!(
-        world.max_penetration() < 1e-3,
-        "{}",
-        world.max_penetration()
-    );
+    assert_nothing_overlaps(&world);
 }
 
 /// 30 boxes created at one point half inside a kinematic slab gliding at 0.5 m/s: the slab
@@ -817,11 +807,7 @@ fn boxes_created_inside_a_kinematic_slab_are_pushed_onto_it_and_never_move_it() 
             "{relative:?} m/s against the slab"
         );
     }
-    assert!(
-        world.max_penetration() < 1e-3,
-        "{}",
-        world.max_penetration()
-    );
+    assert_nothing_overlaps(&world);
 }
 
 #[test]

@@ -92,23 +92,25 @@ pub(super) fn prepare(
     scratch.reach.resize(slot_count, Reach::Still);
     // Reached in the last step: by slots this step may hand to other bodies, or not have.
     scratch.reached.clear();
-    let indices = |keep: fn(&PointConstraint, &[Reach]) -> bool| {
-        let reach = &scratch.reach;
-        let kept = points
-            .iter()
-            .enumerate()
-            .filter(move |(_, c)| keep(c, reach));
-        kept.map(|(k, _)| k as u32)
-    };
-    let deep = indices(|c, _| c.deep);
+    let reach = &scratch.reach;
+    let on_held = |c: &PointConstraint| c.slots.iter().any(|&s| reach[s as usize] == Reach::Held);
     scratch.deep.clear();
-    scratch.deep.extend(deep);
-    let on_held = indices(|c, reach| c.slots.iter().any(|&s| reach[s as usize] == Reach::Held));
+    scratch.deep.extend(indices_where(points, |c| c.deep));
     scratch.on_held.clear();
-    scratch.on_held.extend(on_held);
+    scratch.on_held.extend(indices_where(points, on_held));
     group_by_body(scratch, points);
     scratch.visited.resize(points.len().div_ceil(64), 0);
     scratch.impulses.resize(points.len(), 0.0);
+}
+
+/// The indices of the `points` that `keep` keeps.
+fn indices_where<'a>(
+    points: &'a [PointConstraint],
+    keep: impl Fn(&PointConstraint) -> bool + 'a,
+) -> impl Iterator<Item = u32> + 'a {
+    (points.iter().enumerate())
+        .filter(move |(_, c)| keep(c))
+        .map(|(k, _)| k as u32)
 }
 
 /// Fills `point_starts` and `body_points` from the `points`' slots (a counting sort by
@@ -188,7 +190,7 @@ pub(super) fn solve(
     // kinematic body's points have the last word, so that nothing is pushed through it.
     for i in 0..scratch.on_held.len() {
         let k = scratch.on_held[i] as usize;
-        if scratch.visited[k / 64] & (1 << (k % 64)) != 0 {
+        if scratch.is_visited(k) {
             sweep.push(scratch, k, 0.0);
         }
     }
@@ -196,16 +198,24 @@ pub(super) fn solve(
 
 /// The lowest set bit of `word` at `from` or above.
 fn next_bit(word: u64, from: usize) -> Option<usize> {
-    let above = word.checked_shr(from as u32).unwrap_or(0) << from.min(63);
+    let above = if from < 64 {
+        word & (u64::MAX << from)
+    } else {
+        0
+    };
     (above != 0).then(|| above.trailing_zeros() as usize)
 }
 
 impl PushOutScratch {
+    /// Whether point `k` is visited in this substep.
+    fn is_visited(&self, k: usize) -> bool {
+        self.visited[k / 64] & (1 << (k % 64)) != 0
+    }
+
     /// Marks point `k` to be visited from now on in this substep.
     fn visit(&mut self, k: u32) {
-        let (word, bit) = (k as usize / 64, k % 64);
-        if self.visited[word] & (1 << bit) == 0 {
-            self.visited[word] |= 1 << bit;
+        if !self.is_visited(k as usize) {
+            self.visited[k as usize / 64] |= 1 << (k % 64);
             self.impulses[k as usize] = 0.0;
         }
     }
