@@ -8,6 +8,7 @@ mod box3d;
 mod ours;
 mod overlap;
 mod scenes;
+mod stages;
 mod stress;
 mod theirs;
 
@@ -613,7 +614,7 @@ const OLD: &[&str] = &[
 ];
 
 const USAGE: &str = "\
-Usage: peer-bench [--scene NAME]... [--steps N] [--long N] [--repeats N] [--list]
+Usage: peer-bench [--scene NAME]... [--steps N] [--long N] [--repeats N] [--stages] [--list]
 
   --scene NAME   run only these scenes (repeat it, or give a comma-separated list);
                  NAME is a scene, or `old`, `stress` or `all` (the default: every scene)
@@ -621,6 +622,8 @@ Usage: peer-bench [--scene NAME]... [--steps N] [--long N] [--repeats N] [--list
   --long N       run every scene N steps instead of its own (at least 2), to see what
                  stacks do after a benchmark's window; Box3D still runs its own steps
   --repeats N    timed runs of each engine per setting, instead of each scene's own
+  --stages       instead of the side by side, our engine's stage profile on each chosen
+                 stress scene, at our defaults and at 4 substeps
   --list         list the scenes and exit
 
 Box3D's benchmark program also runs, on large_pyramid, many_pyramids and convex_pile, when
@@ -634,12 +637,15 @@ struct Options {
     /// Steps every scene runs instead of its own (`--long`).
     long: Option<usize>,
     repeats: Option<usize>,
+    /// Print our stage profile of the stress scenes instead (`--stages`).
+    stages: bool,
 }
 
 impl Options {
     fn parse(args: impl Iterator<Item = String>) -> Result<Options, String> {
         let mut wanted: Vec<String> = Vec::new();
         let (mut steps, mut long, mut repeats) = (None, None, None);
+        let mut stages = false;
         let mut args = args.peekable();
         let number = |flag: &str, value: Option<String>, least: usize| {
             value
@@ -662,6 +668,7 @@ impl Options {
                 "--steps" => steps = Some(number("--steps", value(), 2)?),
                 "--long" => long = Some(number("--long", value(), 2)?),
                 "--repeats" => repeats = Some(number("--repeats", value(), 1)?),
+                "--stages" => stages = true,
                 "--list" => {
                     println!(
                         "old: {}\nstress: {}",
@@ -706,6 +713,7 @@ impl Options {
             steps,
             long,
             repeats,
+            stages,
         })
     }
 
@@ -740,6 +748,15 @@ fn main() {
     if std::env::var_os("RAYON_NUM_THREADS").is_none() {
         // SAFETY: nothing else runs yet: no thread can read the environment meanwhile.
         unsafe { std::env::set_var("RAYON_NUM_THREADS", "1") };
+    }
+    if opts.stages {
+        let names: Vec<&str> = scenes::STRESS
+            .iter()
+            .copied()
+            .filter(|n| opts.has(n))
+            .collect();
+        println!("{}", stages::report(&names, &opts));
+        return;
     }
     // Progress goes to stderr, so that stdout stays the Markdown section alone.
     let mut rows = Vec::new();

@@ -47,6 +47,16 @@ fn shape_of(shape: ShapeDesc, hulls: &[Shape]) -> Shape {
     }
 }
 
+impl Ours {
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    pub fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+}
+
 impl Engine for Ours {
     const NAME: &'static str = "ours";
 

@@ -156,6 +156,19 @@ impl SolverBodies {
         self.slot_of[index]
     }
 
+    /// Adds a contact's impulse on each of its bodies to their next warm start; nothing to
+    /// `FIXED_SLOT`, which is never written.
+    #[inline(always)]
+    pub fn add_warm_start<L: Lanes>(&mut self, l: L, pushes: [Push<L::Vector>; 2]) {
+        for push in pushes {
+            if push.slot != FIXED_SLOT {
+                let body = &mut self.slots[push.slot as usize];
+                body.warm_start[0] = (l.load(body.warm_start[0]) + push.linear).store();
+                body.warm_start[1] = (l.load(body.warm_start[1]) + push.angular).store();
+            }
+        }
+    }
+
     /// Starts a substep (**integrate velocities**, **warm start**): `integrate` changes the
     /// momenta of each awake body (the forces; it gets the body's place in `awake`), then the
     /// slot reads them and applies the warm start, the joints' share and then the
@@ -381,15 +394,6 @@ impl<'a> SharedBodies<'a> {
     pub fn add_push_out(&self, slot: u32, impulse: DVec3) {
         if let Some(body) = self.moving(slot) {
             body.push_out += impulse;
-        }
-    }
-
-    /// Adds an impulse to a moving body's next warm start (see `add`).
-    #[inline(always)]
-    pub fn add_warm_start<L: Lanes>(&self, l: L, push: Push<L::Vector>) {
-        if let Some(body) = self.moving(push.slot) {
-            body.warm_start[0] = (l.load(body.warm_start[0]) + push.linear).store();
-            body.warm_start[1] = (l.load(body.warm_start[1]) + push.angular).store();
         }
     }
 }

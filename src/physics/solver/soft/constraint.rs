@@ -204,14 +204,13 @@ impl PointConstraint {
         bodies.add(l, to_b);
     }
 
-    /// Adds the impulse the contact holds to its bodies' next warm start.
+    /// The impulse the contact holds, as it acts on each body: what it adds to their next
+    /// warm start.
     #[inline(always)]
-    pub(super) fn add_to_warm_start<L: Lanes>(&self, l: L, bodies: &SharedBodies) {
+    pub(super) fn warm_start_pushes<L: Lanes>(&self, l: L) -> [Push<L::Vector>; 2] {
         let [tangent_1, tangent_2] = self.impulse.tangent;
         let linear = self.along_directions(l, [self.impulse.normal, tangent_1, tangent_2]);
-        let [to_a, to_b] = self.on_each_body(l, linear);
-        bodies.add_warm_start(l, to_a);
-        bodies.add_warm_start(l, to_b);
+        self.on_each_body(l, linear)
     }
 
     /// The impulse J to b and −J to a, each at its lever. (Returned rather than handed to a

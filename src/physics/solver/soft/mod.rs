@@ -243,7 +243,6 @@ fn step_inline<L: Lanes>(
 ) -> SoftStep {
     prepare::prepare_contacts(l, bodies, awake, contacts, ctx, scratch);
     joint_solve::prepare(&mut scratch.joints, joints, bodies, &scratch.bodies);
-    prepare::warm_start_from_last_step(l, scratch);
     keep_user_forces(&mut scratch.user_forces, bodies, awake);
     let SoftScratch {
         constraints,
@@ -260,7 +259,7 @@ fn step_inline<L: Lanes>(
     let substeps = ctx.settings.substeps.max(1);
     let h = ctx.dt / substeps as f64;
     let max_spin = MAX_TURN_IN_CONTACT / h;
-    spin_guards(guards, constraints, bodies, awake, max_spin);
+    spin_guards(guards, bodies, awake, max_spin);
     let softness = Softness::of_contacts(ctx.settings, h);
     let max_push_out = ctx.settings.max_push_out;
     let deep_overlap = ctx.settings.deep_overlap;
@@ -346,26 +345,14 @@ fn begins_deep(contacts: &[ContactInput], deep_overlap: f64) -> bool {
 /// bound); free bodies keep any spin. Box2D limits every body the same way.
 const MAX_TURN_IN_CONTACT: f64 = 0.25 * std::f64::consts::PI;
 
-/// Lists each awake body that a contact point touches and momentum spins (not kinematic),
-/// with the angular momentum below which it cannot spin faster than `max_spin`: that spin
-/// over trace(I⁻¹), which bounds the largest spin a momentum gives and does not change as
-/// the body turns. The substeps' checks then read no body but the few near the limit, and
-/// visit none in a scene without contacts.
-fn spin_guards(
-    guards: &mut SpinGuards,
-    constraints: &[PointConstraint],
-    bodies: &[RigidBody],
-    awake: &[u32],
-    max_spin: f64,
-) {
+/// Lists each awake body that a contact point touches (`SpinGuards::touched`, filled by
+/// `prepare_contacts`) and momentum spins (not kinematic), with the angular momentum below
+/// which it cannot spin faster than `max_spin`: that spin over trace(I⁻¹), which bounds the
+/// largest spin a momentum gives and does not change as the body turns. The substeps'
+/// checks then read no body but the few near the limit, and visit none in a scene without
+/// contacts.
+fn spin_guards(guards: &mut SpinGuards, bodies: &[RigidBody], awake: &[u32], max_spin: f64) {
     let SpinGuards { touched, list } = guards;
-    touched.clear();
-    touched.resize(awake.len(), false);
-    for slot in constraints.iter().flat_map(|c| c.slots) {
-        if let Some(k) = (slot as usize).checked_sub(1) {
-            touched[k] = true;
-        }
-    }
     list.clear();
     for (k, (&touches, &index)) in touched.iter().zip(awake).enumerate() {
         let body = &bodies[index as usize];

@@ -8,15 +8,21 @@ use glam::DVec3;
 use super::constraint::{
     PointAnchors, PointConstraint, PointImpact, SideGeometry, inv_mass, load3, moves,
 };
-use super::{ContactInput, SoftScratch, StepContext};
+use super::{ContactInput, SoftScratch, SpinGuards, StepContext};
 use crate::physics::dynamics::body::RigidBody;
 use crate::physics::dynamics::forces::EnvironmentForce;
 use crate::physics::solver::impulse::tangent_basis;
 use crate::physics::solver::lanes::{F32x4, F64x4, LaneVector, Lanes, rounded_to_f32};
-use crate::physics::solver::solver_bodies::{FIXED_SLOT, SharedBodies, SolverBodies};
+use crate::physics::solver::solver_bodies::{FIXED_SLOT, SolverBodies};
 
 /// Gives each awake body a slot, colours the contacts (see `contact_colors`) and prepares
-/// every contact point as a constraint, in colour order.
+/// every contact point as a constraint, in colour order; then the first warm start from the
+/// impulses the contacts ended the last step with, added up per body, and which bodies a
+/// contact touches (`SpinGuards::touched`).
+///
+/// One loop in colour order does it all, so that the records, larger together than the
+/// processor's caches, are written once, one after the other, and read again while still in
+/// cache (BENCHMARKS.md, "Preparation in one pass").
 #[inline(always)]
 pub(super) fn prepare_contacts<L: Lanes>(
     l: L,
@@ -33,6 +39,7 @@ pub(super) fn prepare_contacts<L: Lanes>(
         colors,
         motions,
         bodies: slots,
+        spin_guards: SpinGuards { touched, .. },
         ..
     } = scratch;
     slots.assign(bodies, awake);
@@ -41,32 +48,59 @@ pub(super) fn prepare_contacts<L: Lanes>(
         .map(|c| [slots.slot_of(c.a), slots.slot_of(c.b)]);
     colors.assign(contact_slots, slots.count(), FIXED_SLOT);
     SlotMotion::gather(motions, bodies, awake, ctx.forces);
+    touched.clear();
+    touched.resize(awake.len(), false);
     // Written in place: collecting would build each (large) constraint aside and copy it.
     constraints.resize(colors.order.len(), PointConstraint::default());
     anchors.resize(colors.order.len(), PointAnchors::default());
     impacts.resize(colors.order.len(), PointImpact::default());
-    // A manifold's points share their normal, and so their tangents: taken in contact order,
-    // where they are neighbours.
+    // A manifold's points share their normal, and so their tangents, and stay together in
+    // colour order.
     let mut basis = (DVec3::NAN, [DVec3::NAN; 2]);
-    for (contact, &position) in contacts.iter().zip(&colors.position_of) {
+    let order = &colors.order;
+    for (k, &index) in order.iter().enumerate() {
+        prefetch_ahead(l, contacts, bodies, order, k);
+        let contact = &contacts[index as usize];
         if contact.normal != basis.0 {
             basis = (contact.normal, tangent_basis(contact.normal));
         }
-        let k = position as usize;
         (constraints[k], anchors[k], impacts[k]) =
             prepare(l, bodies, slots, contact, basis.1, motions, ctx.dt);
+        let constraint = &constraints[k];
+        slots.add_warm_start(l, constraint.warm_start_pushes(l));
+        for slot in constraint.slots {
+            if let Some(place) = (slot as usize).checked_sub(1) {
+                touched[place] = true;
+            }
+        }
+        if let Some(previous) = k.checked_sub(1) {
+            constraints[previous].pairs_with_next =
+                independent(&constraints[previous], &constraints[k]);
+        }
     }
-    mark_pairs(constraints);
 }
 
-/// The first substep's warm start: the impulses the contacts ended the last step with, added
-/// up per body.
+/// How many contacts ahead, in colour order, `prepare_contacts` asks for a contact, and
+/// half as many for its bodies (whose indices it reads from the contact asked for before).
+const PREFETCH_AHEAD: usize = 16;
+
+/// Asks the processor for what the contacts ahead will read: colour order takes the contacts,
+/// and so their bodies, in a jumbled order, and each read missed the caches.
 #[inline(always)]
-pub(super) fn warm_start_from_last_step<L: Lanes>(l: L, scratch: &mut SoftScratch) {
-    // SAFETY: used on this thread only.
-    let shared = unsafe { SharedBodies::new(&mut scratch.bodies.slots) };
-    for constraint in scratch.constraints.iter() {
-        constraint.add_to_warm_start(l, &shared);
+fn prefetch_ahead<L: Lanes>(
+    l: L,
+    contacts: &[ContactInput],
+    bodies: &[RigidBody],
+    order: &[u32],
+    k: usize,
+) {
+    if let Some(&ahead) = order.get(k + PREFETCH_AHEAD) {
+        l.prefetch(&contacts[ahead as usize]);
+    }
+    if let Some(&near) = order.get(k + PREFETCH_AHEAD / 2) {
+        let contact = &contacts[near as usize];
+        l.prefetch(&bodies[contact.a]);
+        l.prefetch(&bodies[contact.b]);
     }
 }
 
@@ -241,6 +275,7 @@ fn fastest_approach(speed: f64, acceleration: f64, contact: &ContactInput, dt: f
 }
 
 /// Sets `pairs_with_next` on contacts in pass order.
+#[cfg(test)]
 pub(super) fn mark_pairs(constraints: &mut [PointConstraint]) {
     for k in 1..constraints.len() {
         let independent = independent(&constraints[k - 1], &constraints[k]);

@@ -123,9 +123,8 @@ fn scene_prepared_with<L: Lanes>(l: L) -> Scene {
 fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
     let (mut bodies, mut slots, mut prepared) = scene();
     let h = 1.0 / 480.0;
-    let shared = one_thread(&mut slots);
     for c in &prepared.points {
-        c.add_to_warm_start(Portable, &shared);
+        slots.add_warm_start(Portable, c.warm_start_pushes(Portable));
     }
     slots.integrate_velocities_and_warm_start(&mut bodies, |_, _| {});
     let biased = Pass::Biased {
@@ -147,9 +146,8 @@ fn gathered_warm_start_is_the_sum_of_the_final_impulses() {
     for slot in &mut summed.slots {
         slot.warm_start = [F64x4::ZERO; 2];
     }
-    let shared = one_thread(&mut summed);
     for c in &prepared.points {
-        c.add_to_warm_start(Portable, &shared);
+        summed.add_warm_start(Portable, c.warm_start_pushes(Portable));
     }
     let mut pushed = 0.0;
     for (gathered, summed) in slots.slots[1..].iter().zip(&summed.slots[1..]) {
