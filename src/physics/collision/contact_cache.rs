@@ -10,8 +10,8 @@ use crate::physics::solver::soft::{ContactInput, WarmImpulse};
 
 type Key = (BodyId, BodyId, FeatureId);
 
-/// Sorted by key, so that a pair's entries are found by a search and iteration order is
-/// deterministic.
+/// Sorted by body pair, so that a pair's entries are found by a search; within a pair, in
+/// the order of its manifold's points. Iteration order is deterministic.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactCache {
     entries: Vec<(Key, WarmImpulse)>,
@@ -59,20 +59,14 @@ impl ContactCache {
                 .map(move |c| (m.body_a, m.body_b, c.feature))
         });
         self.entries.extend(keys.zip(impulses));
-        // The manifolds come in pair order, so sorting each one's few points sorts the whole
-        // list (a stable sort of so few allocates nothing); a caller that hands them in
-        // another order gets the full sort.
-        let mut rest = &mut self.entries[..];
-        for manifold in manifolds {
-            let (points, after) = rest.split_at_mut(manifold.contacts.len().min(rest.len()));
-            points.sort_by_key(|entry| entry.0);
-            rest = after;
+        // The manifolds come in pair order, and so do the entries. Within a pair they stay in
+        // their manifold's order: `solver_inputs` looks a point up among its pair's few
+        // entries, and finds the first with its feature (a feature pair found twice keeps
+        // the first impulse). A caller that hands the manifolds in another order gets them
+        // sorted by pair, stably.
+        if !self.entries.is_sorted_by_key(pair_of) {
+            self.entries.sort_by_key(pair_of);
         }
-        if !self.entries.is_sorted_by_key(|entry| entry.0) {
-            self.entries.sort_by_key(|entry| entry.0);
-        }
-        // Equal keys are rare (a feature pair found twice); the first is kept.
-        self.entries.dedup_by(|x, y| x.0 == y.0);
     }
 
     /// The highest body index any entry refers to.

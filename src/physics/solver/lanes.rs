@@ -20,10 +20,9 @@ use std::ops::{Add, AddAssign, Mul, Neg, Sub};
 
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::{
-    __m256d, _MM_HINT_T0, _mm_loadu_ps, _mm_prefetch, _mm256_add_pd, _mm256_cvtps_pd,
-    _mm256_loadu_pd, _mm256_mul_pd, _mm256_permute2f128_pd, _mm256_permute4x64_pd, _mm256_set1_pd,
-    _mm256_setzero_pd, _mm256_storeu_pd, _mm256_sub_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd,
-    _mm256_xor_pd,
+    __m256d, _mm_loadu_ps, _mm256_add_pd, _mm256_cvtps_pd, _mm256_loadu_pd, _mm256_mul_pd,
+    _mm256_permute2f128_pd, _mm256_permute4x64_pd, _mm256_set1_pd, _mm256_setzero_pd,
+    _mm256_storeu_pd, _mm256_sub_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd, _mm256_xor_pd,
 };
 
 use glam::DVec3;
@@ -185,6 +184,23 @@ pub fn rounded_to_f32(v: DVec3) -> DVec3 {
     F32x4::narrowed(F64x4::from_vec3(v)).to_vec3()
 }
 
+/// Asks the processor to bring `item`'s first cache line into its caches, for a read soon
+/// of something a jumbled order would otherwise wait for; only a hint, and nothing where
+/// the processor has no such instruction.
+#[inline(always)]
+pub fn prefetch<T>(item: &T) {
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
+    // SAFETY: SSE is enabled for this build (the cfg); a prefetch changes nothing the program
+    // can observe, and `item` is a valid reference anyway.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+            (item as *const T).cast::<i8>(),
+        )
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
+    let _ = item;
+}
+
 /// The arithmetic a solver pass computes its lanes with (see the module comment).
 pub trait Lanes: Copy {
     type Vector: LaneVector;
@@ -194,8 +210,6 @@ pub trait Lanes: Copy {
     /// Three rows of f32 lanes, widened to f64, as columns: lane c of column k is lane k of
     /// row c (lane 3 zero), e.g. three vectors from their components held in lanes.
     fn load_narrow_columns(self, rows: &[F32x4; 3]) -> [Self::Vector; 3];
-    /// Asks the processor to bring `item`'s first cache line into its caches; only a hint.
-    fn prefetch<T>(self, item: &T);
 }
 
 /// Four lanes in registers, loaded from an `F64x4` and stored back to one.
@@ -229,8 +243,6 @@ pub struct Portable;
 
 impl Lanes for Portable {
     type Vector = F64x4;
-    #[inline(always)]
-    fn prefetch<T>(self, _item: &T) {}
     #[inline(always)]
     fn load(self, stored: F64x4) -> F64x4 {
         stored
@@ -278,12 +290,7 @@ pub struct Avx2Vector(__m256d);
 #[cfg(target_arch = "x86_64")]
 impl Lanes for Avx2 {
     type Vector = Avx2Vector;
-    #[inline(always)]
-    fn prefetch<T>(self, item: &T) {
-        // SAFETY: `self` proves AVX2 (see `Avx2`), which has SSE; a prefetch reads nothing
-        // the program sees, and `item` is a valid reference anyway.
-        unsafe { _mm_prefetch::<_MM_HINT_T0>((item as *const T).cast::<i8>()) }
-    }
+
     #[inline(always)]
     fn load(self, stored: F64x4) -> Avx2Vector {
         // SAFETY: `self` proves AVX2 (see `Avx2`); the pointer reads the four lanes.

@@ -12,7 +12,7 @@ use super::{ContactInput, SoftScratch, SpinGuards, StepContext};
 use crate::physics::dynamics::body::RigidBody;
 use crate::physics::dynamics::forces::EnvironmentForce;
 use crate::physics::solver::impulse::tangent_basis;
-use crate::physics::solver::lanes::{F32x4, F64x4, LaneVector, Lanes, rounded_to_f32};
+use crate::physics::solver::lanes::{F32x4, F64x4, LaneVector, Lanes, prefetch, rounded_to_f32};
 use crate::physics::solver::solver_bodies::{FIXED_SLOT, SolverBodies};
 
 /// Gives each awake body a slot, colours the contacts (see `contact_colors`) and prepares
@@ -59,7 +59,7 @@ pub(super) fn prepare_contacts<L: Lanes>(
     let mut basis = (DVec3::NAN, [DVec3::NAN; 2]);
     let order = &colors.order;
     for (k, &index) in order.iter().enumerate() {
-        prefetch_ahead(l, contacts, bodies, order, k);
+        prefetch_ahead(contacts, bodies, order, k);
         let contact = &contacts[index as usize];
         if contact.normal != basis.0 {
             basis = (contact.normal, tangent_basis(contact.normal));
@@ -87,20 +87,14 @@ const PREFETCH_AHEAD: usize = 16;
 /// Asks the processor for what the contacts ahead will read: colour order takes the contacts,
 /// and so their bodies, in a jumbled order, and each read missed the caches.
 #[inline(always)]
-fn prefetch_ahead<L: Lanes>(
-    l: L,
-    contacts: &[ContactInput],
-    bodies: &[RigidBody],
-    order: &[u32],
-    k: usize,
-) {
+fn prefetch_ahead(contacts: &[ContactInput], bodies: &[RigidBody], order: &[u32], k: usize) {
     if let Some(&ahead) = order.get(k + PREFETCH_AHEAD) {
-        l.prefetch(&contacts[ahead as usize]);
+        prefetch(&contacts[ahead as usize]);
     }
     if let Some(&near) = order.get(k + PREFETCH_AHEAD / 2) {
         let contact = &contacts[near as usize];
-        l.prefetch(&bodies[contact.a]);
-        l.prefetch(&bodies[contact.b]);
+        prefetch(&bodies[contact.a]);
+        prefetch(&bodies[contact.b]);
     }
 }
 
