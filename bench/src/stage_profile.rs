@@ -15,22 +15,8 @@ pub fn profile(name: &str) -> (StageTimes, usize) {
     let mut sum = StageTimes::default();
     for _ in 0..steps {
         world.step(scene.settings.dt);
-        let t = world.stage_times();
-        sum.broad_phase += t.broad_phase;
-        sum.narrow_phase += t.narrow_phase;
-        sum.islands += t.islands;
-        sum.solve += t.solve;
-        sum.integrate += t.integrate;
-        sum.checks += t.checks;
+        sum += world.stage_times();
     }
-    let n = steps as f64;
-    let mean = StageTimes {
-        broad_phase: sum.broad_phase / n,
-        narrow_phase: sum.narrow_phase / n,
-        islands: sum.islands / n,
-        solve: sum.solve / n,
-        integrate: sum.integrate / n,
-        checks: sum.checks / n,
-    };
+    let mean = sum.scaled(1.0 / steps as f64);
     (mean, steps)
 }

@@ -11,51 +11,6 @@ use crate::Options;
 use crate::ours::Ours;
 use crate::scenes;
 
-/// Stage times summed over the timed steps.
-#[derive(Default)]
-struct Totals {
-    broad_phase: f64,
-    narrow_phase: f64,
-    islands: f64,
-    solve: f64,
-    integrate: f64,
-    checks: f64,
-}
-
-impl Totals {
-    fn add(&mut self, t: StageTimes) {
-        self.broad_phase += t.broad_phase;
-        self.narrow_phase += t.narrow_phase;
-        self.islands += t.islands;
-        self.solve += t.solve;
-        self.integrate += t.integrate;
-        self.checks += t.checks;
-    }
-
-    /// Each stage and the whole, in ms per step over `steps` steps.
-    fn per_step(&self, steps: usize) -> [f64; 7] {
-        let stages = [
-            self.broad_phase,
-            self.narrow_phase,
-            self.islands,
-            self.solve,
-            self.integrate,
-            self.checks,
-        ];
-        let total: f64 = stages.iter().sum();
-        let ms = |s: f64| s * 1e3 / steps as f64;
-        [
-            ms(stages[0]),
-            ms(stages[1]),
-            ms(stages[2]),
-            ms(stages[3]),
-            ms(stages[4]),
-            ms(stages[5]),
-            ms(total),
-        ]
-    }
-}
-
 /// The stage profile of the stress scenes in `names`, as a Markdown section.
 pub fn report(names: &[&str], opts: &Options) -> String {
     let mut table = String::from(
@@ -70,16 +25,25 @@ pub fn report(names: &[&str], opts: &Options) -> String {
             let mut ours = Ours::build(&scene, substeps);
             ours.world_mut().set_stage_timing(true);
             ours.step();
-            let mut totals = Totals::default();
+            let mut sum = StageTimes::default();
             for _ in 1..scene.steps {
                 ours.step();
-                totals.add(ours.world().stage_times());
+                sum += ours.world().stage_times();
             }
             let awake = (0..scene.bodies.len())
                 .filter(|&i| !scene.bodies[i].fixed && !ours.is_sleeping(i))
                 .count();
-            let ms = totals.per_step(scene.steps - 1);
-            let cells: Vec<String> = ms.iter().map(|v| format!("{v:.3}")).collect();
+            let ms = sum.scaled(1e3 / (scene.steps - 1) as f64);
+            let stages = [
+                ms.broad_phase,
+                ms.narrow_phase,
+                ms.islands,
+                ms.solve,
+                ms.integrate,
+                ms.checks,
+                ms.total(),
+            ];
+            let cells: Vec<String> = stages.iter().map(|v| format!("{v:.3}")).collect();
             let substeps =
                 substeps.unwrap_or(rigid::physics::World::default().settings.solver.substeps);
             let sleeping = if scene.sleeping { "on" } else { "off" };

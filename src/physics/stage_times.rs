@@ -34,6 +34,30 @@ impl StageTimes {
             + self.integrate
             + self.checks
     }
+
+    /// Every stage times `factor` (a sum over steps into a mean, or seconds into ms).
+    pub fn scaled(&self, factor: f64) -> StageTimes {
+        StageTimes {
+            broad_phase: self.broad_phase * factor,
+            narrow_phase: self.narrow_phase * factor,
+            islands: self.islands * factor,
+            solve: self.solve * factor,
+            integrate: self.integrate * factor,
+            checks: self.checks * factor,
+        }
+    }
+}
+
+/// Stage by stage, to sum steps.
+impl std::ops::AddAssign for StageTimes {
+    fn add_assign(&mut self, other: StageTimes) {
+        self.broad_phase += other.broad_phase;
+        self.narrow_phase += other.narrow_phase;
+        self.islands += other.islands;
+        self.solve += other.solve;
+        self.integrate += other.integrate;
+        self.checks += other.checks;
+    }
 }
 
 /// Runs `stage` and, when `on`, adds the wall time it took to `seconds`. Off by default in a
@@ -50,4 +74,28 @@ pub(crate) fn timed<R>(on: bool, seconds: &mut f64, stage: impl FnOnce() -> R) -
     }
     let _ = (on, seconds);
     stage()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two steps summed and halved give their mean, stage by stage, and the total follows.
+    #[test]
+    fn summed_steps_scale_into_their_mean() {
+        let step = |k: f64| StageTimes {
+            broad_phase: k,
+            narrow_phase: 2.0 * k,
+            islands: 3.0 * k,
+            solve: 4.0 * k,
+            integrate: 5.0 * k,
+            checks: 6.0 * k,
+        };
+        let mut sum = StageTimes::default();
+        sum += step(1.0);
+        sum += step(3.0);
+        let mean = sum.scaled(0.5);
+        assert_eq!(mean, step(2.0));
+        assert_eq!(mean.total(), 21.0 * 2.0);
+    }
 }
