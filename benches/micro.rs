@@ -6,6 +6,7 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{DMat3, DQuat, DVec3};
 use rigid::physics::collision::broad_phase::{AabbTree, SplitBroadPhase, SweepAndPrune};
+use rigid::physics::geometry::epa::signed_distance;
 use rigid::physics::{
     Aabb, BroadPhase, BroadPhaseKind, PosedShape, Proxy, Shape, generate_contacts, gjk_distance,
     penetration,
@@ -25,6 +26,33 @@ fn hull_points(n: usize) -> Vec<DVec3> {
             DVec3::new(ring * angle.cos(), z, ring * angle.sin()) * 0.5
         })
         .collect()
+}
+
+/// A uniform number in [0, 1) from a linear congruential generator.
+fn uniform(state: &mut u64) -> f64 {
+    *state = state
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*state >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// `count` placements of two copies of `shape` (of radius 0.5) at random turns and
+/// directions whose surfaces lie from 2 cm into each other to 1.5 cm apart: the touching
+/// pairs of a pile, which mostly need the full separating-axis search.
+fn touching_poses(shape: &Shape, count: usize) -> Vec<(PosedShape<'_>, PosedShape<'_>)> {
+    let mut state = 7u64;
+    let mut poses = Vec::with_capacity(count);
+    while poses.len() < count {
+        let mut turn = || DVec3::new(uniform(&mut state), uniform(&mut state), 0.5) * 4.0;
+        let (turn_a, turn_b, direction) = (turn(), turn(), turn().normalize());
+        let distance = 0.5 + 0.6 * uniform(&mut state);
+        let a = posed(shape, DVec3::new(1.0, 5.0, -3.0), turn_a);
+        let b = posed(shape, a.origin + direction * distance, turn_b);
+        if (-0.02..0.015).contains(&signed_distance(&a, &b).distance) {
+            poses.push((a, b));
+        }
+    }
+    poses
 }
 
 fn narrow(c: &mut Criterion) {
@@ -84,6 +112,14 @@ fn narrow(c: &mut Criterion) {
     c.bench_function("manifold, 32-point hulls", |b| {
         b.iter(|| generate_contacts(black_box(&hulls.0), black_box(&hulls.1), 0.02))
     });
+    let touching = touching_poses(&hull, 500);
+    c.bench_function("manifold, 32-point hulls, 500 touching placements", |b| {
+        b.iter(|| {
+            (touching.iter())
+                .map(|(a, b2)| generate_contacts(black_box(a), black_box(b2), 0.02).len())
+                .sum::<usize>()
+        })
+    });
     c.bench_function("manifold, capsule lying on a box", |b| {
         b.iter(|| {
             let (a, b2) = &capsule_on_box;
@@ -107,12 +143,7 @@ fn narrow(c: &mut Criterion) {
 /// `count` unit-ish boxes scattered over a cube of side `spread`, a third of them idle.
 fn proxies(count: usize, spread: f64) -> Vec<Proxy> {
     let mut state = 12345u64;
-    let mut next = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = move || uniform(&mut state);
     (0..count)
         .map(|i| {
             let at = DVec3::new(next(), next(), next()) * spread;

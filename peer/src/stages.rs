@@ -2,7 +2,8 @@
 //! defaults and at 4 substeps: the profile the side by side's missed targets are explained
 //! by. One run per setting, with the world's stage timing on (`World::set_stage_timing`),
 //! which reads the clock around each stage; the first step is left out, as in the timed
-//! rows.
+//! rows. A second table splits each run into windows of `WINDOW` steps: a pile's cost
+//! grows as it gathers, and Box3D's benchmark program (`-s`) reports its own by step.
 
 use rigid::physics::StageTimes;
 
@@ -10,6 +11,17 @@ use crate::Engine;
 use crate::Options;
 use crate::ours::Ours;
 use crate::scenes;
+use crate::stress;
+
+/// Steps per row of the table by window.
+const WINDOW: usize = 100;
+
+/// One run's stage times: over the whole run and per window, ms per step, with the awake
+/// dynamic bodies at the end of each.
+struct Profile {
+    whole: (StageTimes, usize),
+    windows: Vec<(std::ops::Range<usize>, StageTimes, usize)>,
+}
 
 /// The stage profile of the stress scenes in `names`, as a Markdown section.
 pub fn report(names: &[&str], opts: &Options) -> String {
@@ -17,23 +29,20 @@ pub fn report(names: &[&str], opts: &Options) -> String {
         "| scene, sleeping | substeps | awake at end | broad phase | narrow phase | islands | \
          solve | integrate | checks | step |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
+    let mut by_window = String::from(
+        "| scene, sleeping | substeps | steps | awake at end | broad phase | narrow phase | \
+         solve | integrate | step |\n|---|---|---|---|---|---|---|---|---|\n",
+    );
     for name in names {
         let stress = scenes::stress(name).expect("a stress scene's name");
         let scene = opts.cut(stress.scene);
-        for substeps in [None, Some(4)] {
+        let sleeping = if scene.sleeping { "on" } else { "off" };
+        for (_, substeps, _, _) in stress::settings() {
             eprintln!("{name}, substeps {substeps:?}: stage profile…");
-            let mut ours = Ours::build(&scene, substeps);
-            ours.world_mut().set_stage_timing(true);
-            ours.step();
-            let mut sum = StageTimes::default();
-            for _ in 1..scene.steps {
-                ours.step();
-                sum += ours.world().stage_times();
-            }
-            let awake = (0..scene.bodies.len())
-                .filter(|&i| !scene.bodies[i].fixed && !ours.is_sleeping(i))
-                .count();
-            let ms = sum.scaled(1e3 / (scene.steps - 1) as f64);
+            let profile = profile(&scene, substeps);
+            let substeps =
+                substeps.unwrap_or(rigid::physics::World::default().settings.solver.substeps);
+            let (ms, awake) = profile.whole;
             let stages = [
                 ms.broad_phase,
                 ms.narrow_phase,
@@ -43,20 +52,66 @@ pub fn report(names: &[&str], opts: &Options) -> String {
                 ms.checks,
                 ms.total(),
             ];
-            let cells: Vec<String> = stages.iter().map(|v| format!("{v:.3}")).collect();
-            let substeps =
-                substeps.unwrap_or(rigid::physics::World::default().settings.solver.substeps);
-            let sleeping = if scene.sleeping { "on" } else { "off" };
             table.push_str(&format!(
                 "| {name}, {sleeping} | {substeps} | {awake} | {} |\n",
-                cells.join(" | ")
+                cells(&stages)
             ));
+            for (steps, ms, awake) in profile.windows {
+                let stages = [
+                    ms.broad_phase,
+                    ms.narrow_phase,
+                    ms.solve,
+                    ms.integrate,
+                    ms.total(),
+                ];
+                by_window.push_str(&format!(
+                    "| {name}, {sleeping} | {substeps} | {}–{} | {awake} | {} |\n",
+                    steps.start,
+                    steps.end - 1,
+                    cells(&stages)
+                ));
+            }
         }
     }
     format!(
         "### Where our step's time goes\n\n\
          Our engine alone, one run per setting, ms per step over every step but the first, \
          with the world's stage timing on (it reads the clock around each stage). Sleeping \
-         as each scene sets it; awake dynamic bodies at the end.\n\n{table}"
+         as each scene sets it; awake dynamic bodies at the end.\n\n{table}\n\
+         By window of {WINDOW} steps (the first window leaves out step 0), from the same \
+         runs:\n\n{by_window}"
     )
+}
+
+fn cells(values: &[f64]) -> String {
+    let cells: Vec<String> = values.iter().map(|v| format!("{v:.3}")).collect();
+    cells.join(" | ")
+}
+
+/// Runs `scene` with the stage timing on, at our defaults or at `substeps`.
+fn profile(scene: &scenes::SceneDesc, substeps: Option<u32>) -> Profile {
+    let mut ours = Ours::build(scene, substeps);
+    ours.world_mut().set_stage_timing(true);
+    ours.step();
+    let awake = |ours: &Ours| {
+        (0..scene.bodies.len())
+            .filter(|&i| !scene.bodies[i].fixed && !ours.is_sleeping(i))
+            .count()
+    };
+    let (mut sum, mut window, mut windows) = (StageTimes::default(), StageTimes::default(), vec![]);
+    let mut window_start = 1;
+    for step in 1..scene.steps {
+        ours.step();
+        sum += ours.world().stage_times();
+        window += ours.world().stage_times();
+        if (step + 1) % WINDOW == 0 || step + 1 == scene.steps {
+            let per_step = window.scaled(1e3 / (step + 1 - window_start) as f64);
+            windows.push((window_start..step + 1, per_step, awake(&ours)));
+            (window, window_start) = (StageTimes::default(), step + 1);
+        }
+    }
+    Profile {
+        whole: (sum.scaled(1e3 / (scene.steps - 1) as f64), awake(&ours)),
+        windows,
+    }
 }

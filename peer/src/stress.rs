@@ -187,7 +187,7 @@ struct StressRow {
 /// The two settings each scene runs at: (label, our substeps, rapier's iterations, whether
 /// Box3D takes turns in it). Box3D's benchmark program always runs 4 substeps, so it runs in
 /// the equal-substeps pass.
-fn settings() -> [(String, Option<u32>, Option<u32>, bool); 2] {
+pub(crate) fn settings() -> [(String, Option<u32>, Option<u32>, bool); 2] {
     let ours_default = rigid::physics::World::default().settings.solver.substeps;
     let theirs_default = crate::theirs::parameters(None).num_solver_iterations;
     [

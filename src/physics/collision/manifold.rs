@@ -207,6 +207,8 @@ struct Polyhedron<'a> {
     /// hull whose loops do not close), and such an edge is left to the face axes.
     edge_faces: &'a [Option<[usize; 2]>],
     centroid: DVec3,
+    /// The farthest vertex's distance from `centroid`.
+    size: f64,
     /// The radius of a ball about `centroid` that lies inside the polyhedron: the nearest
     /// face plane's distance. Along any direction the polyhedron reaches at least this far
     /// beyond its centroid, which sharpens the bounds of the separating-axis search.
@@ -327,6 +329,7 @@ impl<'a> Polyhedron<'a> {
             edges: BOX_EDGES.as_slice(),
             edge_faces: BOX_EDGE_FACES.as_slice(),
             centroid: centroid(&vertices),
+            size: half_extents.length(),
             inner_radius: half_extents.min_element(),
             plane_spread: 0.0,
             box_frame: Some(BoxFrame {
@@ -344,17 +347,14 @@ impl<'a> Polyhedron<'a> {
         let faces: SmallVec<[Polygon<'a>; 6]> = (hull.faces.iter())
             .map(|f| face_of(posed, &f.vertices, f.normal, &vertices))
             .collect();
-        let centroid = centroid(&vertices);
-        let inner_radius = (faces.iter())
-            .map(|f| f.offset - f.normal.dot(centroid))
-            .fold(f64::INFINITY, f64::min)
-            .max(0.0);
+        let ball = hull.vertex_ball();
         Polyhedron {
             faces,
             edges: hull.edges.as_slice(),
             edge_faces: hull.edge_faces(),
-            centroid,
-            inner_radius,
+            centroid: posed.to_world(ball.center),
+            size: ball.outer_radius,
+            inner_radius: ball.inner_radius,
             plane_spread: hull.plane_spread(),
             box_frame: None,
             vertices,
@@ -378,13 +378,6 @@ impl<'a> Polyhedron<'a> {
             .iter()
             .map(|v| v.dot(direction))
             .fold(f64::NEG_INFINITY, f64::max)
-    }
-
-    fn size(&self) -> f64 {
-        self.vertices
-            .iter()
-            .map(|v| v.distance(self.centroid))
-            .fold(0.0, f64::max)
     }
 }
 
@@ -544,7 +537,7 @@ fn clip_along(a: &Polyhedron, b: &Polyhedron, axis: Axis, margin: f64, contacts:
 /// The full search: Ok with an axis that separates the two farther than `margin`, or Err
 /// with the best axis to clip along.
 fn best_axis(a: &Polyhedron, b: &Polyhedron, margin: f64) -> Result<Axis, Axis> {
-    let (size_a, size_b) = (a.size(), b.size());
+    let (size_a, size_b) = (a.size, b.size);
     let slop = AXIS_PREFERENCE * size_a.min(size_b);
     let reach = a.centroid.length() + size_a + b.centroid.length() + size_b;
     let bound_slack = BOUND_ROUND_OFF * reach;
@@ -1552,7 +1545,7 @@ pub(crate) mod tests {
                 let pb = Polyhedron::of(&after).expect("a hull");
                 let axis = feature_axis(&pa, &pb, feature.feature).expect("taken");
                 let now = signed_distance(&posed_a, &after).distance;
-                let preference = AXIS_PREFERENCE * pa.size().min(pb.size());
+                let preference = AXIS_PREFERENCE * pa.size.min(pb.size);
                 let (low, high) = (then - FEATURE_TOLERANCE - preference, now);
                 prop_assert!(
                     axis.separation() >= low - 1e-6 && axis.separation() <= high + 1e-6,

@@ -99,6 +99,21 @@ struct Derived {
     plane_spread: f64,
     /// See `ConvexHull::plane_tolerance`.
     plane_tolerance: f64,
+    /// See `ConvexHull::vertex_ball`.
+    vertex_ball: VertexBall,
+}
+
+/// The mean of a hull's vertices, with the radii of the balls about it that the hull holds
+/// and that hold it: rigid motions keep them, so a contact search places the centre and
+/// reuses the radii instead of measuring every vertex and face of every pair.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct VertexBall {
+    /// The mean of the vertices, in shape coordinates.
+    pub center: DVec3,
+    /// The farthest vertex's distance from `center` (m).
+    pub outer_radius: f64,
+    /// The nearest face plane's distance from `center` (m), 0 if `center` lay outside one.
+    pub inner_radius: f64,
 }
 
 impl Clone for ConvexHull {
@@ -212,8 +227,23 @@ impl ConvexHull {
                     .fold(0.0, f64::max),
                 plane_spread: self.farthest_off_plane(),
                 plane_tolerance: plane_tolerance(min, max),
+                vertex_ball: self.measure_vertex_ball(),
             }
         })
+    }
+
+    fn measure_vertex_ball(&self) -> VertexBall {
+        let center = self.vertices.iter().sum::<DVec3>() / self.vertices.len().max(1) as f64;
+        VertexBall {
+            center,
+            outer_radius: (self.vertices.iter())
+                .map(|v| v.distance(center))
+                .fold(0.0, f64::max),
+            inner_radius: (self.faces.iter())
+                .map(|f| f.offset - f.normal.dot(center))
+                .fold(f64::INFINITY, f64::min)
+                .max(0.0),
+        }
     }
 
     fn farthest_off_plane(&self) -> f64 {
@@ -249,6 +279,12 @@ impl ConvexHull {
     /// the construction's tolerance, not exactly; kept, as every pair's search asks for it.
     pub(crate) fn plane_spread(&self) -> f64 {
         self.derived().plane_spread
+    }
+
+    /// The mean of the vertices and the balls about it inside and around the hull; kept, as
+    /// every pair's search asks for them.
+    pub(crate) fn vertex_ball(&self) -> VertexBall {
+        self.derived().vertex_ball
     }
 
     /// How far any vertex of a hull that passes `validate` lies above any face's plane, at
@@ -1021,4 +1057,38 @@ fn is_closed_and_convex(points: &[DVec3], polygons: &[Vec<u32>], on_plane: f64) 
     // vertex exceeds a full turn by a large fraction of it.
     let full_turn = 2.0 * std::f64::consts::PI + 1e-9;
     faces_convex && angle_at_vertex.values().all(|&angle| angle < full_turn)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 2 × 4 × 6 box off the origin: the corners' mean is its centre, the farthest corner
+    /// lies half a diagonal, √14, from it, and the nearest face half the shortest side, 1.
+    #[test]
+    fn a_box_s_vertex_ball_is_its_centre_half_diagonal_and_half_side() {
+        let centre = DVec3::new(0.5, -1.0, 2.0);
+        let half = DVec3::new(1.0, 2.0, 3.0);
+        let corners: Vec<DVec3> = (0..8)
+            .map(|i| {
+                let sign = |bit: u32| if i & (1 << bit) != 0 { 1.0 } else { -1.0 };
+                centre + half * DVec3::new(sign(0), sign(1), sign(2))
+            })
+            .collect();
+        let ball = ConvexHull::from_points(&corners).unwrap().vertex_ball();
+        assert!(ball.center.distance(centre) < 1e-12, "{:?}", ball.center);
+        assert!((ball.outer_radius - 14f64.sqrt()).abs() < 1e-12);
+        assert!((ball.inner_radius - 1.0).abs() < 1e-12);
+    }
+
+    /// The corner tetrahedron: the mean (¼, ¼, ¼) lies √11/4 from the corner on an axis and
+    /// (1 − ¾)/√3 from the slanted face, nearer than the ¼ to the faces on the axis planes.
+    #[test]
+    fn the_corner_tetrahedron_s_vertex_ball_has_its_closed_form() {
+        let corners = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        let ball = ConvexHull::from_points(&corners).unwrap().vertex_ball();
+        assert!(ball.center.distance(DVec3::splat(0.25)) < 1e-12);
+        assert!((ball.outer_radius - 11f64.sqrt() / 4.0).abs() < 1e-12);
+        assert!((ball.inner_radius - 0.25 / 3f64.sqrt()).abs() < 1e-12);
+    }
 }

@@ -290,7 +290,6 @@ pub struct Avx2Vector(__m256d);
 #[cfg(target_arch = "x86_64")]
 impl Lanes for Avx2 {
     type Vector = Avx2Vector;
-
     #[inline(always)]
     fn load(self, stored: F64x4) -> Avx2Vector {
         // SAFETY: `self` proves AVX2 (see `Avx2`); the pointer reads the four lanes.

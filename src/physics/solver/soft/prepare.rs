@@ -73,10 +73,7 @@ pub(super) fn prepare_contacts<L: Lanes>(
                 touched[place] = true;
             }
         }
-        if let Some(previous) = k.checked_sub(1) {
-            constraints[previous].pairs_with_next =
-                independent(&constraints[previous], &constraints[k]);
-        }
+        pair_with_previous(constraints, k);
     }
 }
 
@@ -268,12 +265,13 @@ fn fastest_approach(speed: f64, acceleration: f64, contact: &ContactInput, dt: f
     -fall - acceleration.abs() * dt
 }
 
-/// Sets `pairs_with_next` on contacts in pass order.
-#[cfg(test)]
-pub(super) fn mark_pairs(constraints: &mut [PointConstraint]) {
-    for k in 1..constraints.len() {
-        let independent = independent(&constraints[k - 1], &constraints[k]);
-        constraints[k - 1].pairs_with_next = independent;
+/// Sets `pairs_with_next` on the contact before contact `k` in pass order: whether the two
+/// may be solved side by side.
+#[inline(always)]
+pub(super) fn pair_with_previous(constraints: &mut [PointConstraint], k: usize) {
+    if let Some(previous) = k.checked_sub(1) {
+        constraints[previous].pairs_with_next =
+            independent(&constraints[previous], &constraints[k]);
     }
 }
 

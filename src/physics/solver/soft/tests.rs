@@ -1,7 +1,7 @@
 use glam::{DQuat, DVec3};
 
 use super::constraint::{Contacts, MAX_PARTS, PointAnchors, PointConstraint, PointImpact};
-use super::prepare::{SlotMotion, mark_pairs, prepare};
+use super::prepare::{SlotMotion, pair_with_previous, prepare};
 #[cfg(target_arch = "x86_64")]
 use super::solve::run_pass_avx2;
 use super::solve::{Pass, Softness, run_pass_inline};
@@ -107,7 +107,9 @@ fn scene_prepared_with<L: Lanes>(l: L) -> Scene {
         anchors.push(anchor);
         impacts.push(impact);
     }
-    mark_pairs(&mut points);
+    for k in 0..points.len() {
+        pair_with_previous(&mut points, k);
+    }
     assert!(points[0].pairs_with_next && !points[2].pairs_with_next);
     let prepared = Prepared {
         points,
