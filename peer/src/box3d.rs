@@ -69,14 +69,56 @@ pub struct Box3dRun {
 
 /// Runs benchmark `name` once on one thread and reads its output.
 pub fn run(exe: &Path, name: &str) -> Result<Box3dRun, String> {
+    let stdout = run_program(exe, name, &[], &scratch_dir()?)?;
+    parse(&stdout, name)
+}
+
+/// Box3D's own profile of one step (its `b3Profile`, as `-s` writes it), ms.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepProfile {
+    pub step: f64,
+    /// Its broad phase: the pairs' update.
+    pub pairs: f64,
+    /// Its narrow phase.
+    pub collide: f64,
+    /// Its solver stage, the integration of the bodies included.
+    pub constraints: f64,
+}
+
+/// Runs benchmark `name` once on one thread with its profile per step on (`-s`), and reads
+/// the profile it writes, a line per step, the untimed first step included.
+pub fn profile(exe: &Path, name: &str) -> Result<Vec<StepProfile>, String> {
+    let scratch = scratch_dir()?;
+    let path = scratch.join(format!("{name}_t1.dat"));
+    // An earlier run's file must not pass for this run's.
+    match std::fs::remove_file(&path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            return Err(format!("{}: {e}", path.display()));
+        }
+        _ => {}
+    }
+    run_program(exe, name, &["-s"], &scratch)?;
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    parse_profile(&text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The directory the program runs in: it writes its files into its working directory.
+fn scratch_dir() -> Result<PathBuf, String> {
     let scratch = std::env::temp_dir().join("peer-bench-box3d");
     std::fs::create_dir_all(&scratch).map_err(|e| format!("{}: {e}", scratch.display()))?;
+    Ok(scratch)
+}
+
+/// Runs the program on benchmark `name` with `extra` arguments in `scratch`; returns what
+/// it printed.
+fn run_program(exe: &Path, name: &str, extra: &[&str], scratch: &Path) -> Result<String, String> {
     let output = Command::new(exe)
         .args(["-t=1", &format!("-b={name}"), "-r=1"])
-        .current_dir(&scratch)
+        .args(extra)
+        .current_dir(scratch)
         .output()
         .map_err(|e| format!("could not run {}: {e}", exe.display()))?;
-    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
     if !output.status.success() {
         return Err(format!(
             "{} -b={name} failed ({}): {}",
@@ -85,7 +127,31 @@ pub fn run(exe: &Path, name: &str) -> Result<Box3dRun, String> {
             stdout.trim()
         ));
     }
-    parse(&stdout, name)
+    Ok(stdout)
+}
+
+/// Reads the lines `-s` writes: step, pairs, collide, constraints, transforms, refit and
+/// sleep islands, ms, separated by spaces.
+pub fn parse_profile(text: &str) -> Result<Vec<StepProfile>, String> {
+    let line_profile = |(k, line): (usize, &str)| {
+        let values: Vec<f64> = (line.split_whitespace().map(str::parse))
+            .collect::<Result<_, _>>()
+            .map_err(|e| format!("line {}: {e}", k + 1))?;
+        match values[..] {
+            [step, pairs, collide, constraints, _, _, _] => Ok(StepProfile {
+                step,
+                pairs,
+                collide,
+                constraints,
+            }),
+            _ => Err(format!("line {}: {} values, not 7", k + 1, values.len())),
+        }
+    };
+    let steps: Vec<StepProfile> = text.lines().enumerate().map(line_profile).collect::<Result<_, _>>()?;
+    if steps.len() < 2 {
+        return Err(format!("{} steps profiled: none timed", steps.len()));
+    }
+    Ok(steps)
 }
 
 /// Reads `benchmark: <name>, steps = <n>`, `run 0 : <ms> (ms)` and the counters line.
@@ -146,5 +212,29 @@ All benchmarks complete!
         );
         assert!(parse(OUTPUT, "many_pyramids").is_err());
         assert!(parse("run 0 : 1e+06 (ms)\nbenchmark: x, steps = 11\n", "x").is_ok());
+    }
+
+    /// The first three lines `benchmark -t=1 -b=convex_pile -s -r=1` wrote (Box3D 30c67b5).
+    const PROFILE: &str = "2.89047 1.1114 0.000538 1.20808 0.549295 0.00065 0.003755
+1.44384 5.8e-05 0.000251 1.02556 0.410531 0.000585 0.0037
+1.56739 2.1e-05 0.000207 1.19059 0.370514 0.000495 0.00375
+";
+
+    #[test]
+    fn reads_the_programs_profile() {
+        let steps = parse_profile(PROFILE).expect("parses");
+        assert_eq!(steps.len(), 3);
+        assert_eq!(
+            steps[1],
+            StepProfile {
+                step: 1.44384,
+                pairs: 5.8e-05,
+                collide: 0.000251,
+                constraints: 1.02556,
+            }
+        );
+        assert!(parse_profile("0.6 0.01 0.04 0.4 0.02 0.08\n0.6 0.01 0.04 0.4 0.02 0.08\n").is_err());
+        assert!(parse_profile("0.6 0.01 x 0.4 0.02 0.08 0.0\n0.6 0.01 0.04 0.4 0.02 0.08 0.0\n").is_err());
+        assert!(parse_profile(PROFILE.lines().next().unwrap()).is_err());
     }
 }

@@ -3,12 +3,15 @@
 //! by. One run per setting, with the world's stage timing on (`World::set_stage_timing`),
 //! which reads the clock around each stage; the first step is left out, as in the timed
 //! rows. A second table splits each run into windows of `WINDOW` steps: a pile's cost
-//! grows as it gathers, and Box3D's benchmark program (`-s`) reports its own by step.
+//! grows as it gathers. With `BOX3D_DIR` set (see `box3d`), Box3D's benchmark program runs
+//! each of its scenes once more with its own profile per step on (`-s`), and that table
+//! gives its windows too.
 
 use rigid::physics::StageTimes;
 
 use crate::Engine;
 use crate::Options;
+use crate::box3d::{self, Box3d, StepProfile};
 use crate::ours::Ours;
 use crate::scenes;
 use crate::stress;
@@ -33,6 +36,7 @@ pub fn report(names: &[&str], opts: &Options) -> String {
         "| scene, sleeping | substeps | steps | awake at end | broad phase | narrow phase | \
          solve | integrate | step |\n|---|---|---|---|---|---|---|---|---|\n",
     );
+    let box3d = Box3d::locate();
     for name in names {
         let stress = scenes::stress(name).expect("a stress scene's name");
         let scene = opts.cut(stress.scene);
@@ -72,6 +76,13 @@ pub fn report(names: &[&str], opts: &Options) -> String {
                 ));
             }
         }
+        if let (Some(theirs), Box3d::Ready(exe)) = (stress.box3d, &box3d) {
+            eprintln!("{name}: Box3D's profile…");
+            match box3d::profile(exe, theirs) {
+                Ok(steps) => by_window.push_str(&box3d_windows(name, &steps)),
+                Err(e) => eprintln!("    Box3D's profile of {name} left out: {e}"),
+            }
+        }
     }
     format!(
         "### Where our step's time goes\n\n\
@@ -79,8 +90,38 @@ pub fn report(names: &[&str], opts: &Options) -> String {
          with the world's stage timing on (it reads the clock around each stage). Sleeping \
          as each scene sets it; awake dynamic bodies at the end.\n\n{table}\n\
          By window of {WINDOW} steps (the first window leaves out step 0), from the same \
-         runs:\n\n{by_window}"
+         runs. Box3D's rows, where it ran, are its own profile of one more run of its \
+         program (`-s`, 4 substeps, its own step count): its pairs' update as the broad \
+         phase, its collide stage as the narrow phase, and its solver stage, which \
+         integrates the bodies too, as the solve.\n\n{by_window}"
     )
+}
+
+/// Box3D's profile of scene `name` as rows of the table by window, its untimed first step
+/// left out as in ours.
+fn box3d_windows(name: &str, steps: &[StepProfile]) -> String {
+    let mut rows = String::new();
+    let mut start = 1;
+    while start < steps.len() {
+        let end = ((start / WINDOW + 1) * WINDOW).min(steps.len());
+        let window = &steps[start..end];
+        let mean = |part: fn(&StepProfile) -> f64| {
+            window.iter().map(part).sum::<f64>() / window.len() as f64
+        };
+        let stages = [
+            mean(|p| p.pairs),
+            mean(|p| p.collide),
+            mean(|p| p.constraints),
+        ];
+        rows.push_str(&format!(
+            "| {name}, Box3D | 4 | {start}–{} | | {} | | {:.3} |\n",
+            end - 1,
+            cells(&stages),
+            mean(|p| p.step)
+        ));
+        start = end;
+    }
+    rows
 }
 
 fn cells(values: &[f64]) -> String {
