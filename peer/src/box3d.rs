@@ -147,7 +147,11 @@ pub fn parse_profile(text: &str) -> Result<Vec<StepProfile>, String> {
             _ => Err(format!("line {}: {} values, not 7", k + 1, values.len())),
         }
     };
-    let steps: Vec<StepProfile> = text.lines().enumerate().map(line_profile).collect::<Result<_, _>>()?;
+    let steps: Vec<StepProfile> = text
+        .lines()
+        .enumerate()
+        .map(line_profile)
+        .collect::<Result<_, _>>()?;
     if steps.len() < 2 {
         return Err(format!("{} steps profiled: none timed", steps.len()));
     }
@@ -233,8 +237,13 @@ All benchmarks complete!
                 constraints: 1.02556,
             }
         );
-        assert!(parse_profile("0.6 0.01 0.04 0.4 0.02 0.08\n0.6 0.01 0.04 0.4 0.02 0.08\n").is_err());
-        assert!(parse_profile("0.6 0.01 x 0.4 0.02 0.08 0.0\n0.6 0.01 0.04 0.4 0.02 0.08 0.0\n").is_err());
+        assert!(
+            parse_profile("0.6 0.01 0.04 0.4 0.02 0.08\n0.6 0.01 0.04 0.4 0.02 0.08\n").is_err()
+        );
+        assert!(
+            parse_profile("0.6 0.01 x 0.4 0.02 0.08 0.0\n0.6 0.01 0.04 0.4 0.02 0.08 0.0\n")
+                .is_err()
+        );
         assert!(parse_profile(PROFILE.lines().next().unwrap()).is_err());
     }
 }

@@ -7,6 +7,8 @@
 //! each of its scenes once more with its own profile per step on (`-s`), and that table
 //! gives its windows too.
 
+use std::ops::Range;
+
 use rigid::physics::StageTimes;
 
 use crate::Engine;
@@ -23,7 +25,7 @@ const WINDOW: usize = 100;
 /// dynamic bodies at the end of each.
 struct Profile {
     whole: (StageTimes, usize),
-    windows: Vec<(std::ops::Range<usize>, StageTimes, usize)>,
+    windows: Vec<(Range<usize>, StageTimes, usize)>,
 }
 
 /// The stage profile of the stress scenes in `names`, as a Markdown section.
@@ -97,14 +99,11 @@ pub fn report(names: &[&str], opts: &Options) -> String {
     )
 }
 
-/// Box3D's profile of scene `name` as rows of the table by window, its untimed first step
-/// left out as in ours.
+/// Box3D's profile of scene `name` as rows of the table by window.
 fn box3d_windows(name: &str, steps: &[StepProfile]) -> String {
     let mut rows = String::new();
-    let mut start = 1;
-    while start < steps.len() {
-        let end = ((start / WINDOW + 1) * WINDOW).min(steps.len());
-        let window = &steps[start..end];
+    for range in windows(steps.len()) {
+        let window = &steps[range.clone()];
         let mean = |part: fn(&StepProfile) -> f64| {
             window.iter().map(part).sum::<f64>() / window.len() as f64
         };
@@ -114,14 +113,24 @@ fn box3d_windows(name: &str, steps: &[StepProfile]) -> String {
             mean(|p| p.constraints),
         ];
         rows.push_str(&format!(
-            "| {name}, Box3D | 4 | {start}–{} | | {} | | {:.3} |\n",
-            end - 1,
+            "| {name}, Box3D | 4 | {}–{} | | {} | | {:.3} |\n",
+            range.start,
+            range.end - 1,
             cells(&stages),
             mean(|p| p.step)
         ));
-        start = end;
     }
     rows
+}
+
+/// The windows of a run of `steps` steps, for ours and Box3D's alike: step 0 (untimed in
+/// Box3D's program, left out in ours) is in none; then up to each multiple of `WINDOW`,
+/// the last cut at the run's end.
+fn windows(steps: usize) -> impl Iterator<Item = Range<usize>> {
+    let starts = std::iter::once(1).chain((WINDOW..steps).step_by(WINDOW));
+    starts
+        .map(move |start| start..((start / WINDOW + 1) * WINDOW).min(steps))
+        .filter(|range| !range.is_empty())
 }
 
 fn cells(values: &[f64]) -> String {
@@ -139,20 +148,19 @@ fn profile(scene: &scenes::SceneDesc, substeps: Option<u32>) -> Profile {
             .filter(|&i| !scene.bodies[i].fixed && !ours.is_sleeping(i))
             .count()
     };
-    let (mut sum, mut window, mut windows) = (StageTimes::default(), StageTimes::default(), vec![]);
-    let mut window_start = 1;
-    for step in 1..scene.steps {
-        ours.step();
-        sum += ours.world().stage_times();
-        window += ours.world().stage_times();
-        if (step + 1) % WINDOW == 0 || step + 1 == scene.steps {
-            let per_step = window.scaled(1e3 / (step + 1 - window_start) as f64);
-            windows.push((window_start..step + 1, per_step, awake(&ours)));
-            (window, window_start) = (StageTimes::default(), step + 1);
+    let (mut sum, mut by_window) = (StageTimes::default(), Vec::new());
+    for range in windows(scene.steps) {
+        let mut window = StageTimes::default();
+        for _ in range.clone() {
+            ours.step();
+            window += ours.world().stage_times();
         }
+        sum += window;
+        let per_step = window.scaled(1e3 / range.len() as f64);
+        by_window.push((range, per_step, awake(&ours)));
     }
     Profile {
         whole: (sum.scaled(1e3 / (scene.steps - 1) as f64), awake(&ours)),
-        windows,
+        windows: by_window,
     }
 }
