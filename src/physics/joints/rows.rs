@@ -30,11 +30,13 @@ pub(crate) struct BodyView {
 
 impl BodyView {
     /// Adds a linear impulse at the lever `r` from the centre of mass.
+    #[inline(always)]
     pub(crate) fn push_at(&mut self, r: DVec3, impulse: DVec3) {
         self.push(impulse, r.cross(impulse));
     }
 
     /// Adds a linear and an angular impulse.
+    #[inline(always)]
     pub(crate) fn push(&mut self, linear: DVec3, angular: DVec3) {
         self.velocity += linear * self.inv_mass;
         self.spin += self.inv_inertia * angular;
@@ -43,6 +45,7 @@ impl BodyView {
     }
 
     /// Velocity of the point at lever `r`.
+    #[inline(always)]
     fn point_velocity(&self, r: DVec3) -> DVec3 {
         self.velocity + self.spin.cross(r)
     }
@@ -75,32 +78,51 @@ impl RowPass {
 }
 
 /// The anchors of both bodies together (ball, hinge, fixed): a 3×3 block.
+#[inline(always)]
 pub(crate) fn solve_point(
     [a, b]: [&mut BodyView; 2],
     [ra, rb]: [DVec3; 2],
+    mass: &DMat3,
     accumulated: &mut DVec3,
     pass: RowPass,
 ) {
     let error = (b.position + rb) - (a.position + ra);
     let speed = b.point_velocity(rb) - a.point_velocity(ra);
-    let mut k = arm_mass(ra, a.inv_inertia) + arm_mass(rb, b.inv_inertia);
-    let inv_mass = a.inv_mass + b.inv_mass;
-    k.x_axis.x += inv_mass;
-    k.y_axis.y += inv_mass;
-    k.z_axis.z += inv_mass;
     let (bias, mass_scale, impulse_scale) = vector_scales(pass, error);
-    let Some(rigid) = solve3(k, speed + bias) else {
-        return;
-    };
+    let rigid = *mass * (speed + bias);
     let impulse = -rigid * mass_scale - *accumulated * impulse_scale;
     *accumulated += impulse;
     a.push_at(ra, -impulse);
     b.push_at(rb, impulse);
 }
 
+/// The inverse of the mass the point block of two bodies meets at levers `ra`, `rb`: K⁻¹ with
+/// K = (1/mA + 1/mB) 1 − [rA]× IA⁻¹ [rA]× − [rB]× IB⁻¹ [rB]×; None where K is singular.
+/// K is symmetric, so the rows of its inverse (its cofactors over det K) are its columns.
+pub(crate) fn point_mass(
+    [ra, rb]: [DVec3; 2],
+    [inv_mass_a, inv_mass_b]: [f64; 2],
+    [inv_inertia_a, inv_inertia_b]: [&DMat3; 2],
+) -> Option<DMat3> {
+    let mut k = arm_mass(ra, *inv_inertia_a) + arm_mass(rb, *inv_inertia_b);
+    let inv_mass = inv_mass_a + inv_mass_b;
+    k.x_axis.x += inv_mass;
+    k.y_axis.y += inv_mass;
+    k.z_axis.z += inv_mass;
+    let (x, y, z) = (k.x_axis, k.y_axis, k.z_axis);
+    let cofactors = [y.cross(z), z.cross(x), x.cross(y)];
+    let det = x.dot(cofactors[0]);
+    if !(det.abs() > 1e-300 && det.is_finite()) {
+        return None;
+    }
+    let [cx, cy, cz] = cofactors.map(|c| c / det);
+    Some(DMat3::from_cols(cx, cy, cz))
+}
+
 /// −[r]× I⁻¹ [r]×: what an impulse at lever r adds to the point's velocity through turning.
 /// Column k is (I⁻¹ u_k) × r with u_k = r × e_k, so entry (i, k) is u_i · I⁻¹ u_k: symmetric,
 /// and each u has a zero component, which the products skip.
+#[inline(always)]
 fn arm_mass(r: DVec3, inv_inertia: DMat3) -> DMat3 {
     let (ix, iy, iz) = (inv_inertia.x_axis, inv_inertia.y_axis, inv_inertia.z_axis);
     // I⁻¹ u_k for u_x = (0, r.z, −r.y), u_y = (−r.z, 0, r.x), u_z = (r.y, −r.x, 0).
@@ -120,6 +142,7 @@ fn arm_mass(r: DVec3, inv_inertia: DMat3) -> DMat3 {
     )
 }
 
+#[inline(always)]
 fn vector_scales(pass: RowPass, error: DVec3) -> (DVec3, f64, f64) {
     match pass.softness {
         Some(s) => (error * s.bias_rate(), s.mass_scale(), s.impulse_scale()),
@@ -129,6 +152,7 @@ fn vector_scales(pass: RowPass, error: DVec3) -> (DVec3, f64, f64) {
 
 /// x with k x = v, None where k is singular: the rows of k⁻¹ are the cross products of
 /// k's columns over det k.
+#[inline(always)]
 fn solve3(k: DMat3, v: DVec3) -> Option<DVec3> {
     let (x, y, z) = (k.x_axis, k.y_axis, k.z_axis);
     let cofactors = [y.cross(z), z.cross(x), x.cross(y)];

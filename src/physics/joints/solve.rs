@@ -22,8 +22,12 @@ use glam::{DMat3, DQuat, DVec3};
 
 use super::desc::JointKind;
 use super::joint::{Joint, JointImpulses, rotation_of};
-use super::rows::{BodyView, Bound, LinearRow, RowPass, solve_angular, solve_axial, solve_point};
+use super::rows::{
+    BodyView, Bound, LinearRow, RowPass, point_mass, solve_angular, solve_axial, solve_point,
+};
 use crate::physics::dynamics::body::RigidBody;
+#[cfg(target_arch = "x86_64")]
+use crate::physics::solver::lanes::Avx2;
 use crate::physics::solver::lanes::F64x4;
 use crate::physics::solver::soft::Softness;
 use crate::physics::solver::solver_bodies::{FIXED_SLOT, SolverBodies, SolverBody};
@@ -36,6 +40,9 @@ use crate::physics::solver::solver_bodies::{FIXED_SLOT, SolverBodies, SolverBody
 #[repr(C)]
 pub(crate) struct JointConstraint {
     sides: [Side; 2],
+    /// The inverse of the mass the anchors' point block meets (`rows::point_mass`), with
+    /// the levers and inertias at step start (zero for the kinds without the block).
+    point_mass: DMat3,
     joint: Joint,
     /// Its place in the world's joint list.
     index: usize,
@@ -108,6 +115,7 @@ impl Side {
 
     /// Adds `impulse` to the slot's joints' warm start (a body that impulses do not move is
     /// never written).
+    #[inline(always)]
     fn hold(&self, impulse: Impulse, slots: &mut [SolverBody]) {
         if self.inv_mass == 0.0 {
             return;
@@ -120,6 +128,7 @@ impl Side {
     /// the contacts, so that the body carries only the contacts' share to the next
     /// substep's warm start (see the module comment). A body that impulses do not move
     /// (static, asleep, kinematic) is never written.
+    #[inline(always)]
     fn write(&self, view: &BodyView, slots: &mut [SolverBody]) {
         if self.inv_mass == 0.0 {
             return;
@@ -136,6 +145,7 @@ impl Side {
 
 /// Adds a linear and an angular impulse to a slot's pair of lanes (momenta, or what is held
 /// for a warm start).
+#[inline(always)]
 fn add_to_lanes<'a>(
     totals: impl IntoIterator<Item = &'a mut F64x4>,
     [linear, angular]: [DVec3; 2],
@@ -170,8 +180,30 @@ pub(crate) fn prepare(
         prepared.push(JointConstraint {
             index,
             joint: *joint,
+            point_mass: point_mass_at_start(joint, &sides, [&bodies[a], &bodies[b]]),
             sides,
         });
+    }
+}
+
+/// The inverse mass of the joint's point block, for the kinds that have one, with the
+/// levers at the bodies' poses at step start: recomputed at every pass it cost more than
+/// the rest of a ball joint's row, and the inertias it takes are those of step start
+/// anyway (BENCHMARKS.md, "Joint point mass once per step").
+fn point_mass_at_start(joint: &Joint, sides: &[Side; 2], bodies: [&RigidBody; 2]) -> DMat3 {
+    match joint.kind {
+        JointKind::Ball | JointKind::Fixed | JointKind::Hinge | JointKind::ConeTwist => {
+            let [a, b] = sides;
+            let ra = bodies[0].orientation * joint.local_anchor_a;
+            let rb = bodies[1].orientation * joint.local_anchor_b;
+            let inverse = point_mass(
+                [ra, rb],
+                [a.inv_mass, b.inv_mass],
+                [&a.inv_inertia, &b.inv_inertia],
+            );
+            inverse.unwrap_or(DMat3::ZERO)
+        }
+        JointKind::Slider | JointKind::Distance => DMat3::ZERO,
     }
 }
 
@@ -184,7 +216,8 @@ pub(crate) fn hold_first_warm_start(
 ) {
     for c in prepared {
         let (a, b) = c.views(slots, bodies);
-        c.hold_warm_start(&a, &b, slots);
+        let g = Geometry::of(&c.joint, &a, &b);
+        c.hold_warm_start(&g, &a, &b, slots);
     }
 }
 
@@ -204,21 +237,53 @@ pub(crate) fn solve_all(
     pass: RowPass,
     next: NextSubstep,
 ) {
+    #[cfg(target_arch = "x86_64")]
+    if Avx2::detect().is_some() {
+        // SAFETY: the processor has AVX2, as `detect` found.
+        return unsafe { solve_all_avx2(prepared, slots, bodies, pass, next) };
+    }
+    solve_all_inline(prepared, slots, bodies, pass, next);
+}
+
+/// `solve_all` compiled with AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn solve_all_avx2(
+    prepared: &mut [JointConstraint],
+    slots: &mut [SolverBody],
+    bodies: &[RigidBody],
+    pass: RowPass,
+    next: NextSubstep,
+) {
+    solve_all_inline(prepared, slots, bodies, pass, next);
+}
+
+/// The body of `solve_all`, compiled into each of its variants.
+#[inline(always)]
+fn solve_all_inline(
+    prepared: &mut [JointConstraint],
+    slots: &mut [SolverBody],
+    bodies: &[RigidBody],
+    pass: RowPass,
+    next: NextSubstep,
+) {
     for c in prepared.iter_mut() {
         let (mut a, mut b) = c.views(slots, bodies);
-        solve_joint(&mut c.joint, [&mut a, &mut b], pass);
+        let g = solve_joint(&mut c.joint, &c.point_mass, [&mut a, &mut b], pass);
         c.write(&a, &b, slots);
         if next == NextSubstep::WarmStart {
-            c.hold_warm_start(&a, &b, slots);
+            // The rows moved no pose: the levers they worked with are still the bodies'.
+            c.hold_warm_start(&g, &a, &b, slots);
         }
     }
 }
 
 impl JointConstraint {
-    /// Holds the impulses the joint holds, along its directions at the views' poses, in its
-    /// bodies' slots for the next warm start.
-    fn hold_warm_start(&self, a: &BodyView, b: &BodyView, slots: &mut [SolverBody]) {
-        let [on_a, on_b] = held_impulses(&self.joint, a, b);
+    /// Holds the impulses the joint holds, along its directions at the views' poses (where
+    /// it acts: `g`), in its bodies' slots for the next warm start.
+    #[inline(always)]
+    fn hold_warm_start(&self, g: &Geometry, a: &BodyView, b: &BodyView, slots: &mut [SolverBody]) {
+        let [on_a, on_b] = held_impulses(&self.joint, g, a, b);
         self.sides[0].hold(on_a, slots);
         self.sides[1].hold(on_b, slots);
     }
@@ -231,6 +296,7 @@ impl JointConstraint {
         (a.view(slots, bodies), b.view(slots, bodies))
     }
 
+    #[inline(always)]
     fn write(&self, a: &BodyView, b: &BodyView, slots: &mut [SolverBody]) {
         self.sides[0].write(a, slots);
         self.sides[1].write(b, slots);
@@ -249,8 +315,9 @@ pub(crate) fn finish(
 ) {
     for c in prepared {
         let (a, b) = c.views(slots, bodies);
-        let [_, on_b] = held_impulses(&c.joint, &a, &b);
-        let rb = b.orientation * c.joint.local_anchor_b;
+        let g = Geometry::of(&c.joint, &a, &b);
+        let [_, on_b] = held_impulses(&c.joint, &g, &a, &b);
+        let rb = g.rb;
         let Some(joint) = joints[c.index].as_mut() else {
             continue;
         };
@@ -268,6 +335,7 @@ struct Geometry {
 }
 
 impl Geometry {
+    #[inline(always)]
     fn of(joint: &Joint, a: &BodyView, b: &BodyView) -> Geometry {
         Geometry {
             ra: a.orientation * joint.local_anchor_a,
@@ -289,16 +357,22 @@ impl Geometry {
 
 /// Every row of one joint, once, in the order the kind needs: what a joint allows (motor,
 /// limits, spring) first, what it forbids last, so that the hard rows have the last word.
-fn solve_joint(joint: &mut Joint, [a, b]: [&mut BodyView; 2], pass: RowPass) {
+#[inline(always)]
+fn solve_joint(
+    joint: &mut Joint,
+    point_mass: &DMat3,
+    [a, b]: [&mut BodyView; 2],
+    pass: RowPass,
+) -> Geometry {
     let g = Geometry::of(joint, a, b);
     let mut held = joint.impulses;
     let impulses = &mut held;
     match joint.kind {
-        JointKind::Ball => solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass),
+        JointKind::Ball => solve_point([a, b], [g.ra, g.rb], point_mass, &mut impulses.point, pass),
         JointKind::Fixed => {
             let error = rotation_error(joint, a, b);
             solve_angular([a, b], DVec3::ZERO, error, &mut impulses.angular, pass);
-            solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass);
+            solve_point([a, b], [g.ra, g.rb], point_mass, &mut impulses.point, pass);
         }
         JointKind::Hinge => {
             joint.angle = hinge_angle(joint, a, b);
@@ -307,7 +381,7 @@ fn solve_joint(joint: &mut Joint, [a, b]: [&mut BodyView; 2], pass: RowPass) {
             axial_rows([a, b], axis, joint.angle, drives, impulses, pass);
             let error = axis.cross(b.orientation * joint.local_axis_b);
             solve_angular([a, b], axis, error, &mut impulses.angular, pass);
-            solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass);
+            solve_point([a, b], [g.ra, g.rb], point_mass, &mut impulses.point, pass);
         }
         JointKind::Slider => solve_slider(joint, impulses, &g, [a, b], pass),
         JointKind::Distance => solve_distance(joint, impulses, &g, [a, b], pass),
@@ -315,10 +389,11 @@ fn solve_joint(joint: &mut Joint, [a, b]: [&mut BodyView; 2], pass: RowPass) {
             let cone = ConeGeometry::of(joint, a, b);
             joint.angle = cone.twist;
             solve_cone_twist(joint, &cone, [a, b], impulses, pass);
-            solve_point([a, b], [g.ra, g.rb], &mut impulses.point, pass);
+            solve_point([a, b], [g.ra, g.rb], point_mass, &mut impulses.point, pass);
         }
     }
     joint.impulses = held;
+    g
 }
 
 /// A cone-twist joint's angles in the bodies' current poses.
@@ -633,8 +708,8 @@ fn continued(last: f64, measured: f64) -> f64 {
 
 /// The linear and angular impulse on a and on b of the impulses the joint holds, along its
 /// directions at the views' poses (a warm start; a reaction).
-fn held_impulses(joint: &Joint, a: &BodyView, b: &BodyView) -> [Impulse; 2] {
-    let g = Geometry::of(joint, a, b);
+#[inline(always)]
+fn held_impulses(joint: &Joint, g: &Geometry, a: &BodyView, b: &BodyView) -> [Impulse; 2] {
     let i = &joint.impulses;
     let mut on_a = Impulse::at(g.ra, -i.point).turned(-i.angular);
     let mut on_b = Impulse::at(g.rb, i.point).turned(i.angular);
@@ -675,6 +750,7 @@ struct Impulse {
 
 impl Impulse {
     /// A linear impulse at the lever `r`.
+    #[inline(always)]
     fn at(r: DVec3, linear: DVec3) -> Impulse {
         Impulse {
             linear,
@@ -682,6 +758,7 @@ impl Impulse {
         }
     }
 
+    #[inline(always)]
     fn turned(self, angular: DVec3) -> Impulse {
         Impulse {
             angular: self.angular + angular,
@@ -689,6 +766,7 @@ impl Impulse {
         }
     }
 
+    #[inline(always)]
     fn add(&mut self, other: Impulse) {
         self.linear += other.linear;
         self.angular += other.angular;
