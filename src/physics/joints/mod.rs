@@ -7,6 +7,7 @@
 //!   it ended the last step with and its reaction;
 //! - `rows`: the soft constraint rows (anchors together, no turn, along a direction, about
 //!   an axis) on two bodies' velocities;
+//! - `ball`: a ball joint's pass, in lanes;
 //! - `solve`: the joints' stages inside the soft step (prepare, warm start, biased and relax
 //!   passes, finish).
 //!
@@ -15,6 +16,7 @@
 //! relaxed without it. The classic pipeline has no joints and refuses a world that holds
 //! any (`StepError::JointsNeedSoft`).
 
+mod ball;
 pub mod desc;
 pub mod joint;
 pub(crate) mod rows;

@@ -20,6 +20,7 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
+use super::ball::solve_ball;
 use super::desc::JointKind;
 use super::joint::{Joint, JointImpulses, rotation_of};
 use super::rows::{
@@ -28,7 +29,7 @@ use super::rows::{
 use crate::physics::dynamics::body::RigidBody;
 #[cfg(target_arch = "x86_64")]
 use crate::physics::solver::lanes::Avx2;
-use crate::physics::solver::lanes::F64x4;
+use crate::physics::solver::lanes::{F64x4, Lanes, Portable};
 use crate::physics::solver::soft::Softness;
 use crate::physics::solver::solver_bodies::{FIXED_SLOT, SolverBodies, SolverBody};
 
@@ -39,11 +40,11 @@ use crate::physics::solver::solver_bodies::{FIXED_SLOT, SolverBodies, SolverBody
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
 pub(crate) struct JointConstraint {
-    sides: [Side; 2],
+    pub(super) sides: [Side; 2],
     /// The inverse of the mass the anchors' point block meets (`rows::point_mass`), with
     /// the levers and inertias at step start (zero for the kinds without the block).
-    point_mass: DMat3,
-    joint: Joint,
+    pub(super) point_mass: DMat3,
+    pub(super) joint: Joint,
     /// Its place in the world's joint list.
     index: usize,
 }
@@ -51,15 +52,15 @@ pub(crate) struct JointConstraint {
 /// One body of a prepared joint.
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
-struct Side {
-    slot: u32,
+pub(super) struct Side {
+    pub(super) slot: u32,
     /// The body's index in the world: where the pose of a body without a moving slot is
     /// read (it does not change during the step).
-    body: u32,
+    pub(super) body: u32,
     /// 1/m as impulses see it: zero unless the body is dynamic and awake.
-    inv_mass: f64,
+    pub(super) inv_mass: f64,
     /// I⁻¹ in world axes at step start, as impulses see it.
-    inv_inertia: DMat3,
+    pub(super) inv_inertia: DMat3,
 }
 
 impl Side {
@@ -238,29 +239,31 @@ pub(crate) fn solve_all(
     next: NextSubstep,
 ) {
     #[cfg(target_arch = "x86_64")]
-    if Avx2::detect().is_some() {
-        // SAFETY: the processor has AVX2, as `detect` found.
-        return unsafe { solve_all_avx2(prepared, slots, bodies, pass, next) };
+    if let Some(avx) = Avx2::detect() {
+        // SAFETY: the processor has AVX2, as `avx` proves.
+        return unsafe { solve_all_avx2(avx, prepared, slots, bodies, pass, next) };
     }
-    solve_all_inline(prepared, slots, bodies, pass, next);
+    solve_all_inline(Portable, prepared, slots, bodies, pass, next);
 }
 
 /// `solve_all` compiled with AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn solve_all_avx2(
+    avx: Avx2,
     prepared: &mut [JointConstraint],
     slots: &mut [SolverBody],
     bodies: &[RigidBody],
     pass: RowPass,
     next: NextSubstep,
 ) {
-    solve_all_inline(prepared, slots, bodies, pass, next);
+    solve_all_inline(avx, prepared, slots, bodies, pass, next);
 }
 
 /// The body of `solve_all`, compiled into each of its variants.
 #[inline(always)]
-fn solve_all_inline(
+fn solve_all_inline<L: Lanes>(
+    l: L,
     prepared: &mut [JointConstraint],
     slots: &mut [SolverBody],
     bodies: &[RigidBody],
@@ -268,13 +271,29 @@ fn solve_all_inline(
     next: NextSubstep,
 ) {
     for c in prepared.iter_mut() {
-        let (mut a, mut b) = c.views(slots, bodies);
-        let g = solve_joint(&mut c.joint, &c.point_mass, [&mut a, &mut b], pass);
-        c.write(&a, &b, slots);
-        if next == NextSubstep::WarmStart {
-            // The rows moved no pose: the levers they worked with are still the bodies'.
-            c.hold_warm_start(&g, &a, &b, slots);
+        if c.joint.kind == JointKind::Ball {
+            solve_ball(l, c, slots, bodies, pass, next);
+        } else {
+            solve_general(c, slots, bodies, pass, next);
         }
+    }
+}
+
+/// One joint's pass through the general rows (`rows`) on two `BodyView`s.
+#[inline(always)]
+pub(super) fn solve_general(
+    c: &mut JointConstraint,
+    slots: &mut [SolverBody],
+    bodies: &[RigidBody],
+    pass: RowPass,
+    next: NextSubstep,
+) {
+    let (mut a, mut b) = c.views(slots, bodies);
+    let g = solve_joint(&mut c.joint, &c.point_mass, [&mut a, &mut b], pass);
+    c.write(&a, &b, slots);
+    if next == NextSubstep::WarmStart {
+        // The rows moved no pose: the levers they worked with are still the bodies'.
+        c.hold_warm_start(&g, &a, &b, slots);
     }
 }
 

@@ -1,0 +1,242 @@
+//! A ball joint's pass in lanes (see `solver::lanes`): what the general path computes for a
+//! ball joint (`solve::solve_joint` on two `BodyView`s, then `write` and the warm start's
+//! `hold`), component by component and in the same order, so to the same bits, but with a
+//! vector's three components in one register. The general path spent more moving
+//! components between registers than computing (BENCHMARKS.md, "Ball joints in lanes").
+
+use glam::{DMat3, DVec3};
+
+use super::solve::{JointConstraint, NextSubstep, Side};
+use crate::physics::dynamics::body::RigidBody;
+use crate::physics::joints::rows::RowPass;
+use crate::physics::solver::lanes::{F64x4, LaneVector, Lanes};
+use crate::physics::solver::solver_bodies::{FIXED_SLOT, SolverBody};
+
+/// One body of the joint in lanes: where it is and how it moves now.
+struct Body<V> {
+    position: V,
+    orientation: [V; 3],
+    velocity: V,
+    spin: V,
+}
+
+/// The joint's rows for one pass: the point block, then its impulses written to the bodies'
+/// slots and, before another substep, held for its warm start.
+#[inline(always)]
+pub(super) fn solve_ball<L: Lanes>(
+    l: L,
+    c: &mut JointConstraint,
+    slots: &mut [SolverBody],
+    bodies: &[RigidBody],
+    pass: RowPass,
+    next: NextSubstep,
+) {
+    let [side_a, side_b] = &c.sides;
+    let (a, b) = (
+        body(l, side_a, slots, bodies),
+        body(l, side_b, slots, bodies),
+    );
+    let ra = times(l, &a.orientation, c.joint.local_anchor_a);
+    let rb = times(l, &b.orientation, c.joint.local_anchor_b);
+    let error = (b.position + rb) - (a.position + ra);
+    let speed = (b.velocity + b.spin.cross(rb)) - (a.velocity + a.spin.cross(ra));
+    let (bias, mass_scale, impulse_scale) = match pass.softness {
+        Some(s) => (error * s.bias_rate(), s.mass_scale(), s.impulse_scale()),
+        None => (l.load(F64x4::ZERO), 1.0, 0.0),
+    };
+    let rigid = times_matrix(l, &c.point_mass, speed + bias);
+    let accumulated = load3(l, c.joint.impulses.point);
+    let impulse = -rigid * mass_scale - accumulated * impulse_scale;
+    let point = accumulated + impulse;
+    c.joint.impulses.point = point.store().to_vec3();
+    let zero = l.load(F64x4::ZERO);
+    let on_a = [zero + -impulse, zero + ra.cross(-impulse)];
+    let on_b = [zero + impulse, zero + rb.cross(impulse)];
+    write(l, side_a, on_a, slots);
+    write(l, side_b, on_b, slots);
+    if next == NextSubstep::WarmStart {
+        let angular = load3(l, c.joint.impulses.angular);
+        hold(l, side_a, [-point, ra.cross(-point) + -angular], slots);
+        hold(l, side_b, [point, rb.cross(point) + angular], slots);
+    }
+}
+
+/// As `Side::view`: a body without a moving slot from the world, at rest.
+#[inline(always)]
+fn body<L: Lanes>(
+    l: L,
+    side: &Side,
+    slots: &[SolverBody],
+    bodies: &[RigidBody],
+) -> Body<L::Vector> {
+    if side.slot == FIXED_SLOT {
+        let body = &bodies[side.body as usize];
+        let zero = l.load(F64x4::ZERO);
+        let o = body.orientation;
+        return Body {
+            position: load3(l, body.position),
+            orientation: [load3(l, o.x_axis), load3(l, o.y_axis), load3(l, o.z_axis)],
+            velocity: zero,
+            spin: zero,
+        };
+    }
+    let slot = &slots[side.slot as usize];
+    let momentum = l.load(slot.angular_momentum);
+    // A kinematic body's slot holds its spin scaled as its velocity (`SolverBodies`).
+    let spin = if side.inv_mass != 0.0 {
+        times_matrix(l, &side.inv_inertia, momentum)
+    } else {
+        momentum * slot.inv_mass
+    };
+    let [x, y, z] = slot.orientation;
+    Body {
+        position: l.load(slot.position),
+        orientation: [l.load(x), l.load(y), l.load(z)],
+        velocity: l.load(slot.linear_momentum) * slot.inv_mass,
+        spin,
+    }
+}
+
+/// As `Side::write`: the momenta the joint gave, added to the slot's momenta and to those
+/// it had before the contacts.
+#[inline(always)]
+fn write<L: Lanes>(l: L, side: &Side, [linear, angular]: [L::Vector; 2], slots: &mut [SolverBody]) {
+    if side.inv_mass == 0.0 {
+        return;
+    }
+    let slot = &mut slots[side.slot as usize];
+    slot.linear_momentum = (l.load(slot.linear_momentum) + linear).store();
+    slot.angular_momentum = (l.load(slot.angular_momentum) + angular).store();
+    let [before_linear, before_angular] = &mut slot.before_contacts;
+    *before_linear = (l.load(*before_linear) + linear).store();
+    *before_angular = (l.load(*before_angular) + angular).store();
+}
+
+/// As `Side::hold`: the joint's impulses added to the slot's next warm start.
+#[inline(always)]
+fn hold<L: Lanes>(l: L, side: &Side, [linear, angular]: [L::Vector; 2], slots: &mut [SolverBody]) {
+    if side.inv_mass == 0.0 {
+        return;
+    }
+    let [held_linear, held_angular] = &mut slots[side.slot as usize].joints_warm_start;
+    *held_linear = (l.load(*held_linear) + linear).store();
+    *held_angular = (l.load(*held_angular) + angular).store();
+}
+
+/// A vector into lanes 0 to 2 (lane 3 zero).
+#[inline(always)]
+fn load3<L: Lanes>(l: L, v: DVec3) -> L::Vector {
+    l.load(F64x4::from_vec3(v))
+}
+
+/// m v for a matrix by columns in lanes, as glam's `DMat3 * DVec3` sums it.
+#[inline(always)]
+fn times<L: Lanes>(l: L, columns: &[L::Vector; 3], v: DVec3) -> L::Vector {
+    let _ = l;
+    let [x, y, z] = *columns;
+    x * v.x + y * v.y + z * v.z
+}
+
+/// m v, v in lanes.
+#[inline(always)]
+fn times_matrix<L: Lanes>(l: L, m: &DMat3, v: L::Vector) -> L::Vector {
+    let columns = [load3(l, m.x_axis), load3(l, m.y_axis), load3(l, m.z_axis)];
+    let [x, y, z] = columns;
+    x * v.lane(0) + y * v.lane(1) + z * v.lane(2)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DQuat, DVec3};
+
+    use super::*;
+    use crate::physics::dynamics::body::{BodyDesc, BodyId};
+    use crate::physics::geometry::shape::Shape;
+    use crate::physics::joints::desc::JointDesc;
+    use crate::physics::joints::joint::Joint;
+    use crate::physics::joints::solve::{self, NextSubstep};
+    use crate::physics::solver::lanes::Portable;
+    use crate::physics::solver::soft::{SoftSolverSettings, Softness};
+    use crate::physics::solver::solver_bodies::SolverBodies;
+
+    /// A fixed, two turning dynamic and a kinematic body, and ball joints between each
+    /// dynamic one and every other body, with impulses remembered from a last step.
+    fn scene() -> (Vec<RigidBody>, SolverBodies, Vec<Option<Joint>>) {
+        let cuboid = |h: f64| Shape::cuboid(DVec3::new(h, 0.7 * h, 1.3 * h));
+        let descs = [
+            BodyDesc::fixed(cuboid(1.0)).at(DVec3::new(0.0, -2.0, 0.0)),
+            BodyDesc::dynamic(cuboid(0.5))
+                .rotated(DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -0.2, 0.7))
+                .with_velocity(DVec3::new(0.4, -1.1, 0.2))
+                .with_angular_velocity(DVec3::new(1.3, 0.2, -0.9)),
+            BodyDesc::dynamic(cuboid(0.3))
+                .at(DVec3::new(0.9, 0.4, -0.1))
+                .rotated(DQuat::from_euler(glam::EulerRot::XYZ, -0.5, 0.1, 0.2))
+                .with_angular_velocity(DVec3::new(-0.2, 2.1, 0.4)),
+            BodyDesc::kinematic(cuboid(0.4))
+                .at(DVec3::new(-1.0, 0.3, 0.2))
+                .with_velocity(DVec3::new(0.0, 0.5, -0.3)),
+        ];
+        let bodies: Vec<RigidBody> = (descs.iter())
+            .map(|d| RigidBody::from_desc(d).expect("valid"))
+            .collect();
+        let mut slots = SolverBodies::default();
+        slots.assign(&bodies, &[1, 2, 3]);
+        let pairs = [(0, 1), (1, 2), (2, 0), (3, 1), (2, 3)];
+        let joints = (pairs.iter().enumerate())
+            .map(|(k, &(a, b))| {
+                let anchor = 0.5 * (bodies[a].position + bodies[b].position);
+                let desc = JointDesc::ball(BodyId::new(a, 0), BodyId::new(b, 0), anchor);
+                let mut joint = Joint::new(&desc, &bodies[a], &bodies[b]);
+                joint.impulses.point = DVec3::new(0.3, -1.2, 0.7) * (k as f64 + 1.0);
+                Some(joint)
+            })
+            .collect();
+        (bodies, slots, joints)
+    }
+
+    /// Both passes of a substep, the relax pass holding the next warm start, through the
+    /// general rows (`general`) or the lanes; the slots and the joints' impulses after them.
+    fn passes<L: Lanes>(l: L, general: bool) -> (SolverBodies, Vec<DVec3>) {
+        let (bodies, mut slots, joints) = scene();
+        let mut prepared = Vec::new();
+        solve::prepare(&mut prepared, &joints, &bodies, &slots);
+        let h = 1.0 / 480.0;
+        let biased = RowPass {
+            softness: Some(Softness::of_joints(&SoftSolverSettings::default(), h)),
+            h,
+        };
+        let relax = RowPass { softness: None, h };
+        for (pass, next) in [(biased, NextSubstep::None), (relax, NextSubstep::WarmStart)] {
+            for c in prepared.iter_mut() {
+                if general {
+                    solve::solve_general(c, &mut slots.slots, &bodies, pass, next);
+                } else {
+                    solve_ball(l, c, &mut slots.slots, &bodies, pass, next);
+                }
+            }
+        }
+        let impulses = prepared.iter().map(|c| c.joint.impulses.point).collect();
+        (slots, impulses)
+    }
+
+    fn assert_same(x: &(SolverBodies, Vec<DVec3>), y: &(SolverBodies, Vec<DVec3>)) {
+        // Debug prints each number exactly (shortest round trip), signed zeros too.
+        assert_eq!(format!("{:?}", x.0.slots), format!("{:?}", y.0.slots));
+        assert_eq!(format!("{:?}", x.1), format!("{:?}", y.1));
+    }
+
+    #[test]
+    fn lanes_compute_the_general_rows_bits() {
+        let general = passes(Portable, true);
+        assert_same(&general, &passes(Portable, false));
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx) = crate::physics::solver::lanes::Avx2::detect() {
+            assert_same(&general, &passes(avx, false));
+        }
+        // The passes did something: the first dynamic body's momentum moved.
+        let (bodies, _, _) = scene();
+        let moved = general.0.slots[1].linear_momentum.to_vec3();
+        assert!(moved.distance(bodies[1].linear_momentum) > 1e-3, "{moved}");
+    }
+}
