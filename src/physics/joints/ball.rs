@@ -55,10 +55,78 @@ pub(super) fn solve_ball<L: Lanes>(
     write(l, side_a, on_a, slots);
     write(l, side_b, on_b, slots);
     if next == NextSubstep::WarmStart {
-        let angular = load3(l, c.joint.impulses.angular);
-        hold(l, side_a, [-point, ra.cross(-point) + -angular], slots);
-        hold(l, side_b, [point, rb.cross(point) + angular], slots);
+        hold_impulses(l, c, [ra, rb], point, slots);
     }
+}
+
+/// The joint's impulses held in its bodies' slots for the next warm start, with the levers
+/// at the bodies' current poses (the first warm start of a step: `solve::hold_first_warm_start`).
+#[inline(always)]
+pub(super) fn hold_warm_start<L: Lanes>(
+    l: L,
+    c: &JointConstraint,
+    slots: &mut [SolverBody],
+    bodies: &[RigidBody],
+) {
+    let levers = levers(l, c, slots, bodies);
+    let point = load3(l, c.joint.impulses.point);
+    hold_impulses(l, c, levers, point, slots);
+}
+
+/// The linear and angular impulse the joint's impulses put on b, with the levers at the
+/// bodies' current poses, and b's lever (`solve::finish`).
+#[inline(always)]
+pub(super) fn impulse_on_b<L: Lanes>(
+    l: L,
+    c: &JointConstraint,
+    slots: &[SolverBody],
+    bodies: &[RigidBody],
+) -> [DVec3; 3] {
+    let [_, rb] = levers(l, c, slots, bodies);
+    let point = load3(l, c.joint.impulses.point);
+    let angular = rb.cross(point) + load3(l, c.joint.impulses.angular);
+    [point, angular, rb].map(|v| v.store().to_vec3())
+}
+
+/// As `held_impulses` for a ball joint, held in the slots: the point impulse `point` at the
+/// `levers`, and the angular one (zero for a ball joint, added as the general path adds it).
+#[inline(always)]
+fn hold_impulses<L: Lanes>(
+    l: L,
+    c: &JointConstraint,
+    [ra, rb]: [L::Vector; 2],
+    point: L::Vector,
+    slots: &mut [SolverBody],
+) {
+    let angular = load3(l, c.joint.impulses.angular);
+    let [side_a, side_b] = &c.sides;
+    hold(l, side_a, [-point, ra.cross(-point) + -angular], slots);
+    hold(l, side_b, [point, rb.cross(point) + angular], slots);
+}
+
+/// Each body's lever to its anchor at its current pose.
+#[inline(always)]
+fn levers<L: Lanes>(
+    l: L,
+    c: &JointConstraint,
+    slots: &[SolverBody],
+    bodies: &[RigidBody],
+) -> [L::Vector; 2] {
+    let [side_a, side_b] = &c.sides;
+    let turn = |side: &Side, anchor: DVec3| {
+        let orientation = if side.slot == FIXED_SLOT {
+            let o = bodies[side.body as usize].orientation;
+            [load3(l, o.x_axis), load3(l, o.y_axis), load3(l, o.z_axis)]
+        } else {
+            let [x, y, z] = slots[side.slot as usize].orientation;
+            [l.load(x), l.load(y), l.load(z)]
+        };
+        times(l, &orientation, anchor)
+    };
+    [
+        turn(side_a, c.joint.local_anchor_a),
+        turn(side_b, c.joint.local_anchor_b),
+    ]
 }
 
 /// As `Side::view`: a body without a moving slot from the world, at rest.
@@ -195,12 +263,20 @@ mod tests {
         (bodies, slots, joints)
     }
 
-    /// Both passes of a substep, the relax pass holding the next warm start, through the
-    /// general rows (`general`) or the lanes; the slots and the joints' impulses after them.
+    /// A step's first warm start, then both passes of a substep, the relax pass holding the
+    /// next warm start, through the general rows (`general`) or the lanes; the slots after
+    /// them, the joints' impulses, and what those put on b as `solve::finish` reads it.
     fn passes<L: Lanes>(l: L, general: bool) -> (SolverBodies, Vec<DVec3>) {
         let (bodies, mut slots, joints) = scene();
         let mut prepared = Vec::new();
         solve::prepare(&mut prepared, &joints, &bodies, &slots);
+        for c in &prepared {
+            if general {
+                solve::hold_general(c, &mut slots.slots, &bodies);
+            } else {
+                hold_warm_start(l, c, &mut slots.slots, &bodies);
+            }
+        }
         let h = 1.0 / 480.0;
         let biased = RowPass {
             softness: Some(Softness::of_joints(&SoftSolverSettings::default(), h)),
@@ -216,7 +292,14 @@ mod tests {
                 }
             }
         }
-        let impulses = prepared.iter().map(|c| c.joint.impulses.point).collect();
+        let mut impulses: Vec<DVec3> = prepared.iter().map(|c| c.joint.impulses.point).collect();
+        for c in &prepared {
+            impulses.extend(if general {
+                solve::impulse_on_b_general(c, &slots.slots, &bodies)
+            } else {
+                impulse_on_b(l, c, &slots.slots, &bodies)
+            });
+        }
         (slots, impulses)
     }
 

@@ -20,7 +20,7 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::ball::solve_ball;
+use super::ball::{self, solve_ball};
 use super::desc::JointKind;
 use super::joint::{Joint, JointImpulses, rotation_of};
 use super::rows::{
@@ -216,10 +216,19 @@ pub(crate) fn hold_first_warm_start(
     bodies: &[RigidBody],
 ) {
     for c in prepared {
-        let (a, b) = c.views(slots, bodies);
-        let g = Geometry::of(&c.joint, &a, &b);
-        c.hold_warm_start(&g, &a, &b, slots);
+        if c.joint.kind == JointKind::Ball {
+            ball::hold_warm_start(Portable, c, slots, bodies);
+        } else {
+            hold_general(c, slots, bodies);
+        }
     }
+}
+
+/// One joint's first warm start through the general path (`BodyView`s).
+pub(super) fn hold_general(c: &JointConstraint, slots: &mut [SolverBody], bodies: &[RigidBody]) {
+    let (a, b) = c.views(slots, bodies);
+    let g = Geometry::of(&c.joint, &a, &b);
+    c.hold_warm_start(&g, &a, &b, slots);
 }
 
 /// Whether a relax pass also holds the next substep's warm start.
@@ -333,18 +342,32 @@ pub(crate) fn finish(
     h: f64,
 ) {
     for c in prepared {
-        let (a, b) = c.views(slots, bodies);
-        let g = Geometry::of(&c.joint, &a, &b);
-        let [_, on_b] = held_impulses(&c.joint, &g, &a, &b);
-        let rb = g.rb;
+        let [linear, angular, rb] = if c.joint.kind == JointKind::Ball {
+            ball::impulse_on_b(Portable, c, slots, bodies)
+        } else {
+            impulse_on_b_general(c, slots, bodies)
+        };
         let Some(joint) = joints[c.index].as_mut() else {
             continue;
         };
         joint.impulses = c.joint.impulses;
         joint.angle = c.joint.angle;
-        joint.reaction_force = on_b.linear / h;
-        joint.reaction_torque = (on_b.angular - rb.cross(on_b.linear)) / h;
+        joint.reaction_force = linear / h;
+        joint.reaction_torque = (angular - rb.cross(linear)) / h;
     }
+}
+
+/// The linear and angular impulse the joint's impulses put on b at the bodies' current
+/// poses, and b's lever, through the general path (`BodyView`s).
+pub(super) fn impulse_on_b_general(
+    c: &JointConstraint,
+    slots: &[SolverBody],
+    bodies: &[RigidBody],
+) -> [DVec3; 3] {
+    let (a, b) = c.views(slots, bodies);
+    let g = Geometry::of(&c.joint, &a, &b);
+    let [_, on_b] = held_impulses(&c.joint, &g, &a, &b);
+    [on_b.linear, on_b.angular, g.rb]
 }
 
 /// Where a joint's rows act in the bodies' current poses.
