@@ -36,8 +36,8 @@ pub(super) fn solve_ball<L: Lanes>(
         body(l, side_a, slots, bodies),
         body(l, side_b, slots, bodies),
     );
-    let ra = times(l, &a.orientation, c.joint.local_anchor_a);
-    let rb = times(l, &b.orientation, c.joint.local_anchor_b);
+    let ra = times(&a.orientation, c.joint.local_anchor_a);
+    let rb = times(&b.orientation, c.joint.local_anchor_b);
     let error = (b.position + rb) - (a.position + ra);
     let speed = (b.velocity + b.spin.cross(rb)) - (a.velocity + a.spin.cross(ra));
     let (bias, mass_scale, impulse_scale) = match pass.softness {
@@ -49,6 +49,7 @@ pub(super) fn solve_ball<L: Lanes>(
     let impulse = -rigid * mass_scale - accumulated * impulse_scale;
     let point = accumulated + impulse;
     c.joint.impulses.point = point.store().to_vec3();
+    // Added to zero as the general path gathers them (which makes a −0 a +0): the same bits.
     let zero = l.load(F64x4::ZERO);
     let on_a = [zero + -impulse, zero + ra.cross(-impulse)];
     let on_b = [zero + impulse, zero + rb.cross(impulse)];
@@ -113,20 +114,34 @@ fn levers<L: Lanes>(
     bodies: &[RigidBody],
 ) -> [L::Vector; 2] {
     let [side_a, side_b] = &c.sides;
-    let turn = |side: &Side, anchor: DVec3| {
-        let orientation = if side.slot == FIXED_SLOT {
-            let o = bodies[side.body as usize].orientation;
-            [load3(l, o.x_axis), load3(l, o.y_axis), load3(l, o.z_axis)]
-        } else {
-            let [x, y, z] = slots[side.slot as usize].orientation;
-            [l.load(x), l.load(y), l.load(z)]
-        };
-        times(l, &orientation, anchor)
-    };
     [
-        turn(side_a, c.joint.local_anchor_a),
-        turn(side_b, c.joint.local_anchor_b),
+        times(
+            &orientation(l, side_a, slots, bodies),
+            c.joint.local_anchor_a,
+        ),
+        times(
+            &orientation(l, side_b, slots, bodies),
+            c.joint.local_anchor_b,
+        ),
     ]
+}
+
+/// A body's orientation by columns: from its slot, or from the world for a body without a
+/// moving slot.
+#[inline(always)]
+fn orientation<L: Lanes>(
+    l: L,
+    side: &Side,
+    slots: &[SolverBody],
+    bodies: &[RigidBody],
+) -> [L::Vector; 3] {
+    if side.slot == FIXED_SLOT {
+        let o = bodies[side.body as usize].orientation;
+        [load3(l, o.x_axis), load3(l, o.y_axis), load3(l, o.z_axis)]
+    } else {
+        let [x, y, z] = slots[side.slot as usize].orientation;
+        [l.load(x), l.load(y), l.load(z)]
+    }
 }
 
 /// As `Side::view`: a body without a moving slot from the world, at rest.
@@ -138,12 +153,10 @@ fn body<L: Lanes>(
     bodies: &[RigidBody],
 ) -> Body<L::Vector> {
     if side.slot == FIXED_SLOT {
-        let body = &bodies[side.body as usize];
         let zero = l.load(F64x4::ZERO);
-        let o = body.orientation;
         return Body {
-            position: load3(l, body.position),
-            orientation: [load3(l, o.x_axis), load3(l, o.y_axis), load3(l, o.z_axis)],
+            position: load3(l, bodies[side.body as usize].position),
+            orientation: orientation(l, side, slots, bodies),
             velocity: zero,
             spin: zero,
         };
@@ -156,10 +169,9 @@ fn body<L: Lanes>(
     } else {
         momentum * slot.inv_mass
     };
-    let [x, y, z] = slot.orientation;
     Body {
         position: l.load(slot.position),
-        orientation: [l.load(x), l.load(y), l.load(z)],
+        orientation: orientation(l, side, slots, bodies),
         velocity: l.load(slot.linear_momentum) * slot.inv_mass,
         spin,
     }
@@ -199,8 +211,7 @@ fn load3<L: Lanes>(l: L, v: DVec3) -> L::Vector {
 
 /// m v for a matrix by columns in lanes, as glam's `DMat3 * DVec3` sums it.
 #[inline(always)]
-fn times<L: Lanes>(l: L, columns: &[L::Vector; 3], v: DVec3) -> L::Vector {
-    let _ = l;
+fn times<V: LaneVector>(columns: &[V; 3], v: DVec3) -> V {
     let [x, y, z] = *columns;
     x * v.x + y * v.y + z * v.z
 }
