@@ -185,11 +185,10 @@ fn write<L: Lanes>(l: L, side: &Side, [linear, angular]: [L::Vector; 2], slots: 
         return;
     }
     let slot = &mut slots[side.slot as usize];
-    slot.linear_momentum = (l.load(slot.linear_momentum) + linear).store();
-    slot.angular_momentum = (l.load(slot.angular_momentum) + angular).store();
+    let momenta = [&mut slot.linear_momentum, &mut slot.angular_momentum];
+    add_to_pair(l, momenta, [linear, angular]);
     let [before_linear, before_angular] = &mut slot.before_contacts;
-    *before_linear = (l.load(*before_linear) + linear).store();
-    *before_angular = (l.load(*before_angular) + angular).store();
+    add_to_pair(l, [before_linear, before_angular], [linear, angular]);
 }
 
 /// As `Side::hold`: the joint's impulses added to the slot's next warm start.
@@ -199,8 +198,16 @@ fn hold<L: Lanes>(l: L, side: &Side, [linear, angular]: [L::Vector; 2], slots: &
         return;
     }
     let [held_linear, held_angular] = &mut slots[side.slot as usize].joints_warm_start;
-    *held_linear = (l.load(*held_linear) + linear).store();
-    *held_angular = (l.load(*held_angular) + angular).store();
+    add_to_pair(l, [held_linear, held_angular], [linear, angular]);
+}
+
+/// Adds a linear and an angular impulse to a slot's pair of lanes, as `solve::add_to_lanes`
+/// does with plain vectors.
+#[inline(always)]
+fn add_to_pair<L: Lanes>(l: L, totals: [&mut F64x4; 2], impulses: [L::Vector; 2]) {
+    for (total, impulse) in totals.into_iter().zip(impulses) {
+        *total = (l.load(*total) + impulse).store();
+    }
 }
 
 /// A vector into lanes 0 to 2 (lane 3 zero).

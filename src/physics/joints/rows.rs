@@ -109,12 +109,7 @@ pub(crate) fn point_mass(
     k.x_axis.x += inv_mass;
     k.y_axis.y += inv_mass;
     k.z_axis.z += inv_mass;
-    let (x, y, z) = (k.x_axis, k.y_axis, k.z_axis);
-    let cofactors = [y.cross(z), z.cross(x), x.cross(y)];
-    let det = x.dot(cofactors[0]);
-    if !(det.abs() > 1e-300 && det.is_finite()) {
-        return None;
-    }
+    let (cofactors, det) = cofactors(k)?;
     let [cx, cy, cz] = cofactors.map(|c| c / det);
     Some(DMat3::from_cols(cx, cy, cz))
 }
@@ -154,14 +149,19 @@ fn vector_scales(pass: RowPass, error: DVec3) -> (DVec3, f64, f64) {
 /// k's columns over det k.
 #[inline(always)]
 fn solve3(k: DMat3, v: DVec3) -> Option<DVec3> {
+    let (cofactors, det) = cofactors(k)?;
+    let [cx, cy, cz] = cofactors.map(|c| c.dot(v));
+    Some(DVec3::new(cx, cy, cz) / det)
+}
+
+/// The cross products of k's columns (k⁻¹'s rows times det k) and det k; None where k is
+/// singular.
+#[inline(always)]
+fn cofactors(k: DMat3) -> Option<([DVec3; 3], f64)> {
     let (x, y, z) = (k.x_axis, k.y_axis, k.z_axis);
     let cofactors = [y.cross(z), z.cross(x), x.cross(y)];
     let det = x.dot(cofactors[0]);
-    if !(det.abs() > 1e-300 && det.is_finite()) {
-        return None;
-    }
-    let [cx, cy, cz] = cofactors.map(|c| c.dot(v));
-    Some(DVec3::new(cx, cy, cz) / det)
+    (det.abs() > 1e-300 && det.is_finite()).then_some((cofactors, det))
 }
 
 /// No relative turn but about `free` (a hinge's axis; zero for none): `error` is the small
