@@ -394,6 +394,7 @@ pub fn gjk_core_distance_within(
     let mut v = simplex.points[0].w;
     let mut iterations = 0;
     let mut overlap = false;
+    let mut endgame = Endgame::new();
     while iterations < GJK_MAX_ITERATIONS {
         iterations += 1;
         let scale_sq = simplex_scale_sq(&simplex);
@@ -409,6 +410,7 @@ pub fn gjk_core_distance_within(
             return None;
         }
         let gap = v_sq - support_along_v;
+        endgame.measured(gap);
         let floor = ROUND_OFF * scale_sq.max(w.w.length_squared());
         // gap / ‖v‖ bounds how far ‖v‖ is above the distance; squared, as gap > 0 here.
         let accurate_enough = gap * gap <= accuracy * accuracy * scale_sq * v_sq;
@@ -418,6 +420,7 @@ pub fn gjk_core_distance_within(
         {
             break;
         }
+        endgame.keep_if_best(gap, v_sq * scale_sq, v, &simplex);
         // Pushed in place (a simplex is 4 support points, and copying it every iteration
         // showed in profiles); popping it again restores the previous simplex exactly.
         simplex.push(w);
@@ -441,6 +444,10 @@ pub fn gjk_core_distance_within(
         }
         reduced.reduce(&mut simplex);
         v = new_v;
+        endgame.stepped();
+    }
+    if !overlap && let Some((best_v, best_simplex)) = endgame.better_than_last() {
+        (v, simplex) = (best_v, best_simplex);
     }
     let (_, point_a, point_b) = simplex.combine();
     Some(CoreDistance {
@@ -454,6 +461,53 @@ pub fn gjk_core_distance_within(
         simplex,
         iterations,
     })
+}
+
+/// Witness error (gap / ‖v‖, relative to the simplex size) below which an iterate is kept as
+/// the answer in case a later one is worse. Near a curved surface ‖v‖² is flat in v's
+/// direction, so a step that lowers ‖v‖² by round-off can turn v away: its gap grows again.
+const ENDGAME: f64 = 1e-6;
+
+/// The iterate with the smallest duality gap seen in the endgame, and the gap of the last.
+struct Endgame {
+    best: Option<(f64, DVec3, Simplex)>,
+    last_gap: f64,
+}
+
+impl Endgame {
+    fn new() -> Self {
+        Endgame {
+            best: None,
+            last_gap: f64::INFINITY,
+        }
+    }
+
+    /// The gap of the last iterate.
+    fn measured(&mut self, gap: f64) {
+        self.last_gap = gap;
+    }
+
+    /// Keeps the iterate `v`, `simplex` when the search goes on from it in the endgame with
+    /// the best gap yet. Polytopes mostly stop at their first iterate this accurate, so they
+    /// pay a compare and no copy.
+    fn keep_if_best(&mut self, gap: f64, v_sq_scale_sq: f64, v: DVec3, simplex: &Simplex) {
+        let improves = self.best.as_ref().is_none_or(|(best, ..)| gap < *best);
+        if improves && gap * gap <= ENDGAME * ENDGAME * v_sq_scale_sq {
+            self.best = Some((gap, v, *simplex));
+        }
+    }
+
+    /// A new iterate replaced the last measured one; its gap is unknown until measured.
+    fn stepped(&mut self) {
+        self.last_gap = f64::INFINITY;
+    }
+
+    /// The best iterate, when its gap is smaller than the last one's (an unmeasured last
+    /// iterate, left when the iteration cap ends the search, counts as worse).
+    fn better_than_last(self) -> Option<(DVec3, Simplex)> {
+        let (gap, v, simplex) = self.best?;
+        (gap < self.last_gap).then_some((v, simplex))
+    }
 }
 
 fn simplex_scale_sq(simplex: &Simplex) -> f64 {
