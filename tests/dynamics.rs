@@ -547,7 +547,7 @@ fn the_world_refuses_a_mass_it_cannot_invert_or_a_momentum_that_overflows() {
     let mut bullet = BodyDesc::dynamic(Shape::sphere(1.0)).with_velocity(DVec3::X * 1e300);
     bullet.material.density = 1e10;
     match world.add_body(bullet).unwrap_err() {
-        AddBodyError::Invalid(BodyError::EnergyNotFinite { field, .. }) => {
+        AddBodyError::Invalid(BodyError::EnergyTooLarge { field, .. }) => {
             assert_eq!(field, "velocity")
         }
         other => panic!("{other:?}"),

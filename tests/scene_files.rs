@@ -678,7 +678,8 @@ fn too_many_compound_parts_are_refused() {
 
 /// A finite speed whose kinetic energy ½ m v² is not: 1e160 m/s on a 4 kg ball gives a
 /// momentum of 4e160 kg·m/s but 2e320 J, beyond f64 (it was accepted before, and the totals
-/// read infinity). A spin the same; 1e150 m/s (2e300 J) is still accepted.
+/// read infinity). A spin the same; 1e150 m/s (2e300 J, below `MAX_BODY_ENERGY`) is still
+/// accepted.
 #[test]
 fn a_speed_whose_kinetic_energy_overflows_is_refused() {
     let ball = r#"name: "bullet", shape: Sphere(radius: 0.1)"#;
@@ -690,6 +691,34 @@ fn a_speed_whose_kinetic_energy_overflows_is_refused() {
     let text = scene_with("", &format!("{ball}, velocity: (1e150, 0.0, 0.0)"));
     let world = scene::parse(&text, FILE).unwrap().build_world().unwrap();
     assert!(world.totals().kinetic_energy.is_finite());
+}
+
+/// Twelve 7.4 m spheres spinning at 1e150 rad/s: each one's energy, 1.9e307 J, is finite,
+/// but their sum overflowed and the world's totals read infinity. Each body's energy is
+/// bounded by `MAX_BODY_ENERGY` (1e303 J), so that no world of accepted bodies overflows:
+/// at 1e148 rad/s (1.9e303 J each, at the default density of 1000 kg/m³) the spheres are
+/// refused, and at 1e147 rad/s (1.9e301 J each, 2.3e302 J in all) accepted.
+#[test]
+fn bodies_whose_energies_only_overflow_together_are_refused() {
+    let spinning = |spin: &str| {
+        let body = format!(
+            r#"name: "top", shape: Sphere(radius: 7.417668584464596), position: (0.0, 20.0, 0.0),
+            angular_velocity: (0.0, {spin}, 0.0),
+            repeat: Grid(count: (1, 3, 4), spacing: (0.0, 20.0, 20.0))"#
+        );
+        scene_with("", &body)
+    };
+    for spin in ["1e150", "1e148"] {
+        let message = parse_error(&spinning(spin));
+        assert_names(&message, "'top'", "angular_velocity");
+        assert!(message.contains("above 1e303"), "{message}");
+    }
+    let world = scene::parse(&spinning("1e147"), FILE)
+        .unwrap()
+        .build_world()
+        .unwrap();
+    let energy = world.totals().kinetic_energy;
+    assert!(energy.is_finite() && energy > 1e302, "{energy:e}");
 }
 
 /// Gravity, wind and drag beyond their documented limits are refused with the force and

@@ -213,7 +213,7 @@ fn body_error(error: SnapshotError) -> (usize, String, String, String) {
 #[test]
 fn a_snapshot_is_validated_as_strictly_as_a_scene() {
     type Edit = fn(&mut WorldSnapshot);
-    let cases: [(Edit, usize, &str, &str); 10] = [
+    let cases: [(Edit, usize, &str, &str); 12] = [
         (
             |s| s.bodies[2].material.restitution = 5.0,
             2,
@@ -273,6 +273,19 @@ fn a_snapshot_is_validated_as_strictly_as_a_scene() {
             1,
             "inv_inertia_local",
             "must be zero on a static body",
+        ),
+        // Finite momenta whose energy is beyond `MAX_BODY_ENERGY` (1e303 J), as a scene's.
+        (
+            |s| s.bodies[2].linear_momentum.x = 1e200,
+            2,
+            "linear_momentum",
+            "gives a kinetic energy or momentum above 1e303",
+        ),
+        (
+            |s| s.bodies[2].angular_momentum.z = 1e304,
+            2,
+            "angular_momentum",
+            "gives a kinetic energy or momentum above 1e303",
         ),
     ];
     for (edit, index, field, message) in cases {

@@ -25,7 +25,9 @@ pub mod world;
 pub use collision::broad_phase::{BodyPair, BroadPhase, BroadPhaseKind, Proxy};
 pub use collision::contact::{Contact, ContactKind, ContactManifold, FeatureId};
 pub use collision::manifold::{contact_manifold, generate_contacts};
-pub use dynamics::body::{BodyDesc, BodyError, BodyId, MAX_FRICTION, Material, Motion, RigidBody};
+pub use dynamics::body::{
+    BodyDesc, BodyError, BodyId, MAX_BODY_ENERGY, MAX_FRICTION, Material, Motion, RigidBody,
+};
 pub use dynamics::containment::{MAX_CONTACT_POSITION, MAX_CONTACT_SPEED};
 pub use dynamics::forces::{
     EnvironmentForce, ForceError, MAX_DRAG_COEFFICIENT, MAX_GRAVITY, MAX_WIND_SPEED,

@@ -18,7 +18,7 @@ use thiserror::Error;
 use crate::physics::collision::broad_phase::{BroadPhaseKind, Proxy};
 use crate::physics::collision::contact_cache::ContactCache;
 use crate::physics::collision::manifold_memory::ManifoldMemory;
-use crate::physics::dynamics::body::{BodyId, Motion, RigidBody};
+use crate::physics::dynamics::body::{BodyId, MAX_BODY_ENERGY, Motion, RigidBody};
 use crate::physics::dynamics::forces::EnvironmentForce;
 use crate::physics::joints::joint::Joint;
 use crate::physics::world::{Fault, MAX_BODIES, WorldSettings};
@@ -384,7 +384,13 @@ fn check_body(body: &RigidBody) -> Result<(), (&'static str, String)> {
             format!("must be finite and non-negative, got {}", body.quiet_time),
         ));
     }
-    check_mass_properties(body)
+    check_mass_properties(body)?;
+    // After the mass check: the energies read the velocities the inverse mass gives.
+    if let Some(field) = body.energy_beyond_limit(["linear_momentum", "angular_momentum"]) {
+        let message = format!("gives a kinetic energy or momentum above {MAX_BODY_ENERGY:e}");
+        return Err((field, message));
+    }
+    Ok(())
 }
 
 /// A kinematic body's velocities and target are finite (a unit rotation); any other body has

@@ -11,6 +11,7 @@ use crate::physics::geometry::gjk::{PosedShape, SupportMap, shape_margin};
 use crate::physics::geometry::mass::MassProperties;
 use crate::physics::geometry::nearest_surface::NearestSurface;
 use crate::physics::geometry::shape::{Shape, ShapeError};
+use crate::physics::world::MAX_BODIES;
 
 /// A body's handle, as `World::add_body` hands it out: its slot in `World::bodies` in the
 /// low `BodyId::INDEX_BITS` bits, and the slot's generation above them. A removed body's
@@ -253,13 +254,13 @@ pub enum BodyError {
         /// The mass it gave, kg.
         mass: f64,
     },
-    /// The velocity is finite but the momentum or kinetic energy it gives is not: 1e300 m/s
-    /// on a body of 1e10 kg, or 1e160 m/s on a kilogram.
+    /// The velocity is finite but the momentum or kinetic energy it gives is beyond
+    /// `MAX_BODY_ENERGY`: 1e300 m/s on a body of 1e10 kg, or 1e160 m/s on a kilogram.
     #[error(
-        "body '{body}': {field} gives a momentum or kinetic energy beyond f64; the body \
-         could not be simulated"
+        "body '{body}': {field} gives a momentum or kinetic energy above {MAX_BODY_ENERGY:e} \
+         (the most one body may carry, so that the totals of {MAX_BODIES} bodies stay finite)"
     )]
-    EnergyNotFinite {
+    EnergyTooLarge {
         /// The body's name.
         body: String,
         /// `velocity` or `angular_velocity`.
@@ -398,7 +399,7 @@ impl BodyError {
         match self {
             BodyError::Shape { body, .. }
             | BodyError::NotFinite { body, .. }
-            | BodyError::EnergyNotFinite { body, .. }
+            | BodyError::EnergyTooLarge { body, .. }
             | BodyError::NotPositive { body, .. }
             | BodyError::MassNotInvertible { body, .. }
             | BodyError::OutOfRange { body, .. } => body,
@@ -410,7 +411,7 @@ impl BodyError {
         match self {
             BodyError::Shape { .. } => "shape",
             BodyError::NotFinite { field, .. }
-            | BodyError::EnergyNotFinite { field, .. }
+            | BodyError::EnergyTooLarge { field, .. }
             | BodyError::NotPositive { field, .. }
             | BodyError::MassNotInvertible { field, .. }
             | BodyError::OutOfRange { field, .. } => field,
@@ -423,8 +424,8 @@ impl BodyError {
         match self {
             BodyError::Shape { source, .. } => source.to_string(),
             BodyError::NotFinite { .. } => "must be finite".into(),
-            BodyError::EnergyNotFinite { .. } => {
-                "gives a momentum or kinetic energy beyond f64".into()
+            BodyError::EnergyTooLarge { .. } => {
+                format!("gives a momentum or kinetic energy above {MAX_BODY_ENERGY:e}")
             }
             BodyError::NotPositive { value, .. } => format!("must be positive, got {value}"),
             BodyError::OutOfRange {
@@ -553,6 +554,12 @@ pub fn is_isotropic(m: DMat3) -> bool {
     m == DMat3::from_diagonal(DVec3::splat(k))
 }
 
+/// The most kinetic energy (J), and the most linear or angular momentum along any axis
+/// (kg·m/s, kg·m²/s), one body may carry: far beyond anything physical, and small enough that the world's
+/// kinetic energy and momentum summed over `MAX_BODIES` bodies stay finite.
+pub const MAX_BODY_ENERGY: f64 = 1e303;
+const _: () = assert!(MAX_BODY_ENERGY * MAX_BODIES as f64 <= f64::MAX);
+
 impl RigidBody {
     /// Builds a body from a validated description.
     pub fn from_desc(desc: &BodyDesc) -> Result<RigidBody, BodyError> {
@@ -601,27 +608,31 @@ impl RigidBody {
             body.kinematic_velocity = desc.velocity;
             body.kinematic_spin = desc.angular_velocity;
         }
-        // A finite speed times a huge mass can overflow, and so can ½ m v² when the momentum
-        // does not: such a body would break the totals and any contact at once.
-        let energies = [
-            (
-                body.linear_momentum,
-                "velocity",
-                body.velocity().dot(body.linear_momentum),
-            ),
-            (
-                body.angular_momentum,
-                "angular_velocity",
-                body.angular_velocity().dot(body.angular_momentum),
-            ),
-        ];
-        for (momentum, field, twice_energy) in energies {
-            if !momentum.is_finite() || !twice_energy.is_finite() {
-                let body = desc.name.clone();
-                return Err(BodyError::EnergyNotFinite { body, field });
-            }
+        if let Some(field) = body.energy_beyond_limit(["velocity", "angular_velocity"]) {
+            let body = desc.name.clone();
+            return Err(BodyError::EnergyTooLarge { body, field });
         }
         Ok(body)
+    }
+
+    /// Which of the linear and the angular motion (named by `fields`) carries a momentum or
+    /// a kinetic energy above `MAX_BODY_ENERGY`, if either does. A finite speed times a huge
+    /// mass can overflow, and so can ½ m v² when the momentum does not, or the sum of many
+    /// bodies' energies when each does not.
+    pub fn energy_beyond_limit(&self, fields: [&'static str; 2]) -> Option<&'static str> {
+        let motions = [
+            (self.linear_momentum, self.velocity()),
+            (self.angular_momentum, self.angular_velocity()),
+        ];
+        let beyond = |(momentum, velocity): (DVec3, DVec3)| {
+            let energy = 0.5 * velocity.dot(momentum);
+            // By component: a length would square 1e155 into infinity. Written so that NaN
+            // counts as beyond.
+            let largest = momentum.abs().max_element();
+            !(largest <= MAX_BODY_ENERGY && energy <= MAX_BODY_ENERGY)
+        };
+        (motions.into_iter().zip(fields))
+            .find_map(|(motion, field)| beyond(motion).then_some(field))
     }
 
     /// Moved by forces and contacts (`Motion::Dynamic`), asleep or not.
