@@ -502,6 +502,7 @@ pub const STRESS: &[&str] = &[
     "wall_smash",
     "joint_grid",
     "ragdoll_rain",
+    "column30",
 ];
 
 pub fn stress(name: &str) -> Option<Stress> {
@@ -514,6 +515,7 @@ pub fn stress(name: &str) -> Option<Stress> {
         "wall_smash" => wall_smash(),
         "joint_grid" => joint_grid(),
         "ragdoll_rain" => ragdoll_rain(),
+        "column30" => column30(),
         _ => return None,
     })
 }
@@ -552,6 +554,39 @@ const BOX3D_BOX: MaterialDesc = MaterialDesc {
     restitution: 0.0,
     friction: 0.6,
 };
+
+/// A column of 30 unit cubes stacked face on face (density 100, friction 0.6, touching), on
+/// Box3D's ground, sleeping off, 600 steps (10 s). A rigid column stands: any sway is the
+/// solver's.
+fn column30() -> Stress {
+    const COUNT: usize = 30;
+    let mut bodies = vec![box3d_ground(50.0, BOX3D_BOX)];
+    for k in 0..COUNT {
+        bodies.push(BodyDesc::dynamic(
+            ShapeDesc::Cuboid {
+                half_extents: DVec3::splat(0.5),
+            },
+            BOX3D_BOX,
+            DVec3::new(0.0, 0.5 + k as f64, 0.0),
+        ));
+    }
+    let apex = highest(&bodies);
+    Stress {
+        name: "column30",
+        title: format!("column30: {COUNT} unit cubes face on face"),
+        scene: SceneDesc {
+            bodies,
+            hulls: Vec::new(),
+            joints: Vec::new(),
+            steps: 600,
+            sleeping: false,
+        },
+        region: Region::above_floor(50.0, 50.0),
+        kind: StressKind::Stack { apex: Some(apex) },
+        box3d: None,
+        repeats: 5,
+    }
+}
 
 /// Box3D's ground: a box of half extents `half` × 1 × `half` at y = -1 (top at y = 0).
 fn box3d_ground(half: f64, material: MaterialDesc) -> BodyDesc {
