@@ -804,7 +804,7 @@ impl World {
     fn solve_soft(&mut self, dt: f64) -> f64 {
         let mut inputs = std::mem::take(&mut self.solver_inputs);
         self.contact_cache
-            .solver_inputs(&self.manifolds, &mut inputs);
+            .solver_inputs(&self.bodies, &self.manifolds, &mut inputs);
         let ctx = StepContext {
             forces: &self.forces,
             integrator: self.settings.integrator,
