@@ -176,13 +176,8 @@ impl ContactCache {
     pub fn forget_body(&mut self, index: usize) {
         let keep = |((a, b, _), _): &(Key, WarmImpulse)| a.index() != index && b.index() != index;
         if self.points.len() == self.entries.len() {
-            let mut kept = self.entries.iter().map(keep);
-            let flags: Vec<bool> = kept.by_ref().collect();
-            let mut k = 0;
-            self.points.retain(|_| {
-                k += 1;
-                flags[k - 1]
-            });
+            let mut entries = self.entries.iter();
+            self.points.retain(|_| entries.next().is_some_and(keep));
         } else {
             self.points.clear();
         }
@@ -317,6 +312,32 @@ mod tests {
         let far = placed(&[(105, off(2, DVec3::Z * 1e-3))]);
         cache.solver_inputs(&bodies, std::slice::from_ref(&far), &mut inputs);
         assert_eq!(inputs[0].warm_impulse, WarmImpulse::default());
+    }
+
+    /// Forgetting a body drops its pairs' points with their impulses: the other pairs'
+    /// renamed points still find theirs by position.
+    #[test]
+    fn forgetting_a_body_keeps_the_other_pairs_points_in_step() {
+        let bodies = bodies();
+        let on = |a: u32, b: u32, f: u32, x: f64| {
+            let mut m = manifold(a, b, &[f]);
+            m.contacts[0].position = DVec3::new(x, 0.5, 0.0);
+            m
+        };
+        let before = [on(0, 1, 1, 0.1), on(1, 2, 2, 1.2), on(2, 3, 3, 2.3)];
+        let mut cache = ContactCache::default();
+        let mut inputs = Vec::new();
+        cache.solver_inputs(&bodies, &before, &mut inputs);
+        let impulse = |normal: f64| WarmImpulse {
+            normal,
+            tangent: [0.0; 2],
+        };
+        cache.store(&before, [1.0, 2.0, 3.0].map(impulse).into_iter());
+        cache.forget_body(1);
+        let after = [on(0, 1, 11, 0.1), on(2, 3, 13, 2.3)];
+        cache.solver_inputs(&bodies, &after, &mut inputs);
+        let found: Vec<f64> = inputs.iter().map(|i| i.warm_impulse.normal).collect();
+        assert_eq!(found, [0.0, 3.0]);
     }
 
     /// Every stored impulse is found again, whether the manifolds come in pair order (each
