@@ -10,7 +10,7 @@
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
-use smallvec::SmallVec;
+use smallvec::{SmallVec, smallvec};
 
 use crate::physics::collision::contact::{ContactManifold, FeatureId, MAX_MANIFOLD_POINTS};
 use crate::physics::collision::manifold_memory::REUSE_DISTANCE;
@@ -91,12 +91,12 @@ impl ContactCache {
         points: &[DVec3],
     ) -> ManifoldImpulses {
         let remembered = &self.entries[range.clone()];
-        let mut taken = [false; MAX_REMEMBERED];
+        let mut taken: SmallVec<[bool; MAX_MANIFOLD_POINTS]> = smallvec![false; remembered.len()];
         let mut found: SmallVec<[Option<WarmImpulse>; MAX_MANIFOLD_POINTS]> =
             m.contacts.iter().map(|_| None).collect();
         for (k, c) in m.contacts.iter().enumerate() {
             let same = remembered.iter().position(|((_, _, f), _)| *f == c.feature);
-            if let Some(j) = same.filter(|&j| j < MAX_REMEMBERED) {
+            if let Some(j) = same {
                 taken[j] = true;
             }
             found[k] = same.map(|j| remembered[j].1);
@@ -107,7 +107,7 @@ impl ContactCache {
                 continue;
             }
             let nearest = (remembered_points.iter().enumerate())
-                .filter(|(j, _)| *j < MAX_REMEMBERED && !taken[*j])
+                .filter(|(j, _)| !taken[*j])
                 .map(|(j, p)| (j, p.distance_squared(*point)))
                 .filter(|(_, d)| *d <= MATCH_DISTANCE * MATCH_DISTANCE)
                 .min_by(|x, y| x.1.total_cmp(&y.1));
@@ -184,10 +184,6 @@ impl ContactCache {
         self.entries.retain(keep);
     }
 }
-
-/// The remembered points of one pair that a manifold's points may take an impulse from by
-/// position: a pair keeps at most a manifold's worth.
-const MAX_REMEMBERED: usize = 8;
 
 /// One warm start per point of a manifold.
 type ManifoldImpulses = SmallVec<[WarmImpulse; MAX_MANIFOLD_POINTS]>;
