@@ -53,7 +53,7 @@ fn contacts(
             let contact = ContactInput {
                 a,
                 b,
-                point,
+                levers: [point - bodies[a].position, point - bodies[b].position],
                 normal,
                 separation,
                 warm_impulse,

@@ -206,7 +206,9 @@ impl WorldSnapshot {
                 "the contact cache names a missing body".into(),
             ));
         }
-        self.manifold_memory.check(count).map_err(inconsistent)?;
+        self.manifold_memory
+            .check(&self.bodies)
+            .map_err(inconsistent)?;
         if let Some(fault) = self.faults.iter().find(|f| f.body.index() >= count) {
             return Err(inconsistent(format!(
                 "fault on missing body {}",

@@ -7,7 +7,7 @@
 //! - `position` is the midpoint between the two surface points, so the point on A is
 //!   `position - normal * separation / 2` and the point on B is `position + normal * separation / 2`.
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 use smallvec::SmallVec;
 
@@ -56,6 +56,11 @@ pub struct Contact {
     /// Time of impact within the step (s from the start of the step); 0 for contacts found
     /// at the current configuration.
     pub time_of_impact: f64,
+    /// Where the solver applies this contact's impulses: the lever arms from A's and B's
+    /// centres of mass, world axes, in the solver's f32. None for a contact generated in
+    /// this step, whose impulses act at `position`; a contact carried over from an earlier
+    /// step (`manifold_memory`) keeps the arms it was generated with.
+    pub levers: Option<[Vec3; 2]>,
 }
 
 impl Contact {

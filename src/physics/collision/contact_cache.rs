@@ -62,7 +62,7 @@ impl ContactCache {
             let count = (self.entries[start..].iter())
                 .take_while(|e| pair_of(e) == pair)
                 .count();
-            let a = &bodies[m.body_a.index()];
+            let (a, b) = (&bodies[m.body_a.index()], &bodies[m.body_b.index()]);
             let first = self.pending.len();
             (self.pending).extend(m.contacts.iter().map(|c| in_frame_of(a, c.position)));
             let found = self.warm_impulses(start..start + count, m, &self.pending[first..]);
@@ -73,7 +73,10 @@ impl ContactCache {
                     .map(|(c, warm_impulse)| ContactInput {
                         a: m.body_a.index(),
                         b: m.body_b.index(),
-                        point: c.position,
+                        levers: match c.levers {
+                            Some(kept) => kept.map(|l| l.as_dvec3()),
+                            None => [c.position - a.position, c.position - b.position],
+                        },
                         normal: c.normal,
                         separation: c.separation,
                         warm_impulse,
@@ -217,6 +220,7 @@ mod tests {
                 kind: ContactKind::VertexFace,
                 feature: FeatureId { on_a: f, on_b: 0 },
                 time_of_impact: 0.0,
+                levers: None,
             })
             .collect();
         ContactManifold {

@@ -14,8 +14,16 @@
 //! Why: in a pile or a stack most pairs barely move from one step to the next, and generating
 //! their contacts (separating axes and clipping, or GJK and EPA for rounded shapes) costs
 //! tens of times more than carrying them.
+//!
+//! A carried contact's impulses act where they acted when it was generated: its lever arms
+//! from the two centres of mass stay as they were, in world axes, while its depth follows
+//! the bodies. Re-measured arms follow the turn that the soft contacts' give lets a loaded
+//! body make, which shifts the load over to the side it leans to: a column of 30 unit boxes
+//! buckled under its own weight as a chain of such springs does, and kept arms hold it as
+//! rigid blocks stand (BENCHMARKS.md, "Carried contacts keep their lever arms"). The arms
+//! are off from the material points by at most `REUSE_DISTANCE`.
 
-use glam::{DMat3, DVec3};
+use glam::{DMat3, DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 use smallvec::SmallVec;
 
@@ -48,6 +56,11 @@ struct RememberedContact {
     normal: DVec3,
     kind: ContactKind,
     feature: FeatureId,
+    /// The lever arms from A's and B's centres of mass, world axes, as generated
+    /// (`Contact::levers`). Absent from snapshots written before they were kept: those
+    /// contacts act where they are carried to.
+    #[serde(default)]
+    levers: Option<[Vec3; 2]>,
 }
 
 /// Where the two bodies stood relative to each other when the manifold was generated.
@@ -121,6 +134,7 @@ impl RememberedManifold {
             normal: to_a * c.normal,
             kind: c.kind,
             feature: c.feature,
+            levers: Some([c.position - a.position, c.position - b.position].map(|l| l.as_vec3())),
         });
         RememberedManifold {
             body_a: manifold.body_a,
@@ -185,6 +199,7 @@ impl RememberedManifold {
                         kind: c.kind,
                         feature: c.feature,
                         time_of_impact: 0.0,
+                        levers: c.levers,
                     });
                 }
             }
@@ -199,8 +214,25 @@ impl RememberedManifold {
             && pose.rotation.is_finite()
             && pose.b_in_a.is_finite()
             && pose.a_in_b.is_finite()
-            && (self.contacts.iter())
-                .all(|c| c.on_a.is_finite() && c.on_b.is_finite() && c.normal.is_finite())
+            && (self.contacts.iter()).all(|c| {
+                c.on_a.is_finite()
+                    && c.on_b.is_finite()
+                    && c.normal.is_finite()
+                    && c.levers.is_none_or(|[a, b]| a.is_finite() && b.is_finite())
+            })
+    }
+
+    /// Whether every kept lever arm lies within the margin of its body's bounding sphere,
+    /// as a generated one does.
+    fn levers_within_reach(&self, a: &RigidBody, b: &RigidBody) -> bool {
+        let reach = |body: &RigidBody| {
+            body.shape.bounding_radius() + body.local_center.length() + self.margin.abs()
+        };
+        let (reach_a, reach_b) = (reach(a), reach(b));
+        let levers = self.contacts.iter().filter_map(|c| c.levers);
+        levers.into_iter().all(|[lever_a, lever_b]| {
+            lever_a.as_dvec3().length() <= reach_a && lever_b.as_dvec3().length() <= reach_b
+        })
     }
 }
 
@@ -323,8 +355,10 @@ impl ManifoldMemory {
         self.separated.clear();
     }
 
-    /// What a snapshot's reader checks: sorted, finite, naming bodies below `count`.
-    pub fn check(&self, count: usize) -> Result<(), String> {
+    /// What a snapshot's reader checks: sorted, finite, naming only `bodies`, with every
+    /// kept lever arm within its body's reach.
+    pub fn check(&self, bodies: &[RigidBody]) -> Result<(), String> {
+        let count = bodies.len();
         if !(self.manifolds).is_sorted_by_key(|m| (m.body_a, m.body_b)) {
             return Err("the remembered manifolds are not sorted by body pair".into());
         }
@@ -341,6 +375,12 @@ impl ManifoldMemory {
             if !m.is_finite() {
                 return Err(format!(
                     "the remembered manifold of bodies {} and {} is not finite",
+                    m.body_a.0, m.body_b.0
+                ));
+            }
+            if !m.levers_within_reach(&bodies[m.body_a.index()], &bodies[m.body_b.index()]) {
+                return Err(format!(
+                    "the remembered manifold of bodies {} and {} has a lever arm beyond its body",
                     m.body_a.0, m.body_b.0
                 ));
             }
@@ -426,14 +466,16 @@ mod tests {
     }
 
     /// The carried manifold has the generated one's contacts, at its separations to within
-    /// `tolerance` and its positions to within the reuse distance.
+    /// `tolerance` and its positions to within the reuse distance; it keeps the lever arms
+    /// they were generated with, which are within the reuse distance of the fresh ones.
     fn assert_carried_matches_generated(
         a: &RigidBody,
         b: &RigidBody,
         b_now: &RigidBody,
         tolerance: f64,
     ) {
-        let remembered = RememberedManifold::of(&generated(a, b), a, b, 0.02, None);
+        let original = generated(a, b);
+        let remembered = RememberedManifold::of(&original, a, b, 0.02, None);
         let carried = remembered
             .carried(a, b_now, 0.02, 0.0)
             .expect("close enough to carry");
@@ -449,6 +491,14 @@ mod tests {
             );
             assert!(c.position.distance(same.position) <= REUSE_DISTANCE);
             assert!(c.normal.distance(same.normal) < 1e-3);
+            let kept = (original.contacts.iter())
+                .find(|o| o.feature == c.feature)
+                .expect("carried from the generated contacts");
+            let levers = [kept.position - a.position, kept.position - b.position];
+            assert_eq!(c.levers, Some(levers.map(|l| l.as_vec3())));
+            assert_eq!(same.levers, None, "a generated contact acts where it is");
+            assert!(levers[0].distance(same.position - a.position) <= REUSE_DISTANCE);
+            assert!(levers[1].distance(same.position - b_now.position) <= REUSE_DISTANCE);
         }
     }
 
@@ -526,16 +576,26 @@ mod tests {
             manifolds: vec![remembered(0, 1), remembered(0, 2), remembered(1, 3)],
             separated: Vec::new(),
         });
-        assert_eq!(memory.check(4), Ok(()));
-        assert!(memory.check(3).unwrap_err().contains("missing body"));
+        let bodies = [a.clone(), a.clone(), b.clone(), b.clone()];
+        assert_eq!(memory.check(&bodies), Ok(()));
+        assert!(
+            memory
+                .check(&bodies[..3])
+                .unwrap_err()
+                .contains("missing body")
+        );
+        let mut far = memory.clone();
+        far.manifolds[1].contacts[0].levers = Some([Vec3::ZERO, Vec3::X * 0.4]);
+        let refused = far.check(&bodies).unwrap_err();
+        assert!(refused.contains("bodies 0 and 2 has a lever arm beyond its body"));
         memory.forget(&[2]);
         assert!(memory.find(BodyId(0), BodyId(2)).is_none());
         assert!(memory.find(BodyId(0), BodyId(1)).is_some());
         assert!(memory.find(BodyId(1), BodyId(3)).is_some());
         memory.manifolds[0].pose.b_in_a.x = f64::NAN;
-        assert!(memory.check(4).unwrap_err().contains("not finite"));
+        assert!(memory.check(&bodies).unwrap_err().contains("not finite"));
         memory.manifolds.swap(0, 1);
-        assert!(memory.check(4).unwrap_err().contains("not sorted"));
+        assert!(memory.check(&bodies).unwrap_err().contains("not sorted"));
     }
 
     fn small_vector(size: f64) -> impl Strategy<Value = DVec3> {

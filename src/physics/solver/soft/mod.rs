@@ -68,8 +68,9 @@ pub struct ContactInput {
     pub a: usize,
     /// Index of the second body in the body list.
     pub b: usize,
-    /// World position, midway between the two surfaces.
-    pub point: DVec3,
+    /// Where the impulses act on `a` and on `b`: lever arms from their centres of mass,
+    /// world axes (`Contact::levers`).
+    pub levers: [DVec3; 2],
     /// Unit contact normal, world, from `a` to `b`.
     pub normal: DVec3,
     /// Distance between the surfaces along the normal; negative when penetrating.

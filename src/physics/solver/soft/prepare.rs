@@ -166,8 +166,7 @@ pub(super) fn prepare<L: Lanes>(
     // is worked out from those same values, so that the passes solve the constraint prepared.
     let normal = rounded_to_f32(contact.normal);
     let directions = [normal, rounded_to_f32(t1), rounded_to_f32(t2)];
-    let r_a = rounded_to_f32(contact.point - a.position);
-    let r_b = rounded_to_f32(contact.point - b.position);
+    let [r_a, r_b] = contact.levers.map(rounded_to_f32);
     let (slot_a, slot_b) = (slots.slot_of(contact.a), slots.slot_of(contact.b));
     let relative_velocity =
         velocity_at_start(b, slot_b, motions, r_b) - velocity_at_start(a, slot_a, motions, r_a);

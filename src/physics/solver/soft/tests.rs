@@ -72,10 +72,11 @@ fn scene_prepared_with<L: Lanes>(l: L) -> Scene {
         .collect();
     let mut slots = SolverBodies::default();
     slots.assign(&bodies, &[1, 2]);
+    let point = |k: f64| DVec3::new(0.1 * k, 0.3 - 0.2 * k, -0.05 * k);
     let contact = |a: usize, b: usize, k: f64| ContactInput {
         a,
         b,
-        point: DVec3::new(0.1 * k, 0.3 - 0.2 * k, -0.05 * k),
+        levers: [point(k) - bodies[a].position, point(k) - bodies[b].position],
         normal: DVec3::new(0.1, 1.0, -0.2 * k).normalize(),
         separation: 0.01 - 0.004 * k,
         warm_impulse: WarmImpulse {
