@@ -64,6 +64,15 @@ pub struct Contact {
 }
 
 impl Contact {
+    /// Where the solver applies this contact's impulses, from the centres of mass of A and B
+    /// at `center_a` and `center_b`: the arms it keeps (`levers`), or those to `position`.
+    pub fn lever_arms(&self, center_a: DVec3, center_b: DVec3) -> [DVec3; 2] {
+        match self.levers {
+            Some(kept) => kept.map(|lever| lever.as_dvec3()),
+            None => [self.position - center_a, self.position - center_b],
+        }
+    }
+
     /// The contact point on the surface of A.
     pub fn point_on_a(&self) -> DVec3 {
         self.position - self.normal * (0.5 * self.separation)

@@ -73,10 +73,7 @@ impl ContactCache {
                     .map(|(c, warm_impulse)| ContactInput {
                         a: m.body_a.index(),
                         b: m.body_b.index(),
-                        levers: match c.levers {
-                            Some(kept) => kept.map(|l| l.as_dvec3()),
-                            None => [c.position - a.position, c.position - b.position],
-                        },
+                        levers: c.lever_arms(a.position, b.position),
                         normal: c.normal,
                         separation: c.separation,
                         warm_impulse,

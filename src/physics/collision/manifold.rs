@@ -982,16 +982,17 @@ fn clip_contacts(
         std::mem::swap(&mut from, &mut to);
     }
     let slop = AXIS_PREFERENCE * reference.size.min(incident.size);
-    if let Some(deepest) = deepest_clipped_away(incident, normal, ref_face.offset, from, slop) {
-        from.push(ClipPoint {
-            position: incident.vertices[deepest],
-            incident_feature: VERTEX_TAG | deepest as u32,
+    // Read after the clipped points rather than pushed onto them, which could spill the
+    // inline polygon onto the heap.
+    let deepest =
+        deepest_clipped_away(incident, normal, ref_face.offset, from, slop).map(|k| ClipPoint {
+            position: incident.vertices[k],
+            incident_feature: VERTEX_TAG | k as u32,
             reference_feature: face as u32,
             kind: ContactKind::VertexFace,
         });
-    }
     let sign = if reference_is_a { 1.0 } else { -1.0 };
-    for p in from.iter() {
+    for p in from.iter().chain(&deepest) {
         let separation = normal.dot(p.position) - ref_face.offset;
         if separation <= margin {
             let (on_ref, on_inc) = (p.reference_feature, p.incident_feature);

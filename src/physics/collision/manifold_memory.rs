@@ -134,7 +134,7 @@ impl RememberedManifold {
             normal: to_a * c.normal,
             kind: c.kind,
             feature: c.feature,
-            levers: Some([c.position - a.position, c.position - b.position].map(|l| l.as_vec3())),
+            levers: Some(c.lever_arms(a.position, b.position).map(|l| l.as_vec3())),
         });
         RememberedManifold {
             body_a: manifold.body_a,
@@ -229,8 +229,8 @@ impl RememberedManifold {
             body.shape.bounding_radius() + body.local_center.length() + self.margin.abs()
         };
         let (reach_a, reach_b) = (reach(a), reach(b));
-        let levers = self.contacts.iter().filter_map(|c| c.levers);
-        levers.into_iter().all(|[lever_a, lever_b]| {
+        let mut levers = self.contacts.iter().filter_map(|c| c.levers);
+        levers.all(|[lever_a, lever_b]| {
             lever_a.as_dvec3().length() <= reach_a && lever_b.as_dvec3().length() <= reach_b
         })
     }
